@@ -1,0 +1,10 @@
+//! host-sim: the robovac core compiled for the host, with map loaders, a
+//! CLI and benchmarks. The planning code is the firmware's own; this crate
+//! only supplies files, big capacities and reports.
+
+pub mod bench;
+pub mod demo;
+pub mod maps;
+pub mod metrics;
+pub mod scen;
+pub mod state;

@@ -1,0 +1,329 @@
+//! The `host-sim` command line. Bad input ends with a one-line message on
+//! stderr and exit code 2, never a backtrace.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::{Parser, Subcommand, ValueEnum};
+use serde_json::json;
+
+use host_sim::maps::{load_map, LoadOptions, MapData};
+use host_sim::metrics::polyline_length;
+use host_sim::scen::{algo_name, parse_scen, run_scen};
+use host_sim::state::{new_grid, new_search};
+use robovac::prune::prune;
+use robovac::{Algo, Cell};
+
+#[derive(Parser)]
+#[command(name = "host-sim", version, about = "robovac host simulator: the firmware core on your PC")]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum AlgoArg {
+    Astar,
+    Oha,
+    Theta,
+}
+
+impl From<AlgoArg> for Algo {
+    fn from(a: AlgoArg) -> Self {
+        match a {
+            AlgoArg::Astar => Algo::AStar,
+            AlgoArg::Oha => Algo::Oha,
+            AlgoArg::Theta => Algo::Theta,
+        }
+    }
+}
+
+#[derive(clap::Args)]
+struct MapArgs {
+    /// Map file: .map (MovingAI), .yaml (ROS), .png, .pgm, or ASCII.
+    #[arg(long)]
+    map: PathBuf,
+    /// Resample image maps to cells of this size (metres).
+    #[arg(long)]
+    cell: Option<f64>,
+    /// Metres per pixel of a PNG map (default 0.05).
+    #[arg(long)]
+    resolution: Option<f64>,
+}
+
+impl MapArgs {
+    fn load(&self) -> Result<MapData, String> {
+        load_map(
+            &self.map,
+            LoadOptions {
+                cell_m: self.cell,
+                png_resolution_m: self.resolution,
+            },
+        )
+        .map_err(|e| e.to_string())
+    }
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Plan on the built-in flat and show it in the terminal.
+    Demo,
+    /// Search one path.
+    Search {
+        #[command(flatten)]
+        map: MapArgs,
+        /// Start cell X,Y (column, row from the top).
+        #[arg(long, value_parser = parse_cell)]
+        from: Cell,
+        /// Goal cell X,Y.
+        #[arg(long, value_parser = parse_cell)]
+        to: Cell,
+        #[arg(long, value_enum, default_value = "oha")]
+        algo: AlgoArg,
+        /// Print one JSON object.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Run every problem of a MovingAI scenario file.
+    Scen {
+        /// The .scen file.
+        scen: PathBuf,
+        #[command(flatten)]
+        map: MapArgs,
+        #[arg(long, value_enum, default_value = "astar")]
+        algo: AlgoArg,
+        /// Print one JSON object.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Benchmarks reproducing the papers' tables.
+    Bench {
+        #[command(subcommand)]
+        which: BenchCmd,
+    },
+}
+
+#[derive(Subcommand)]
+enum BenchCmd {
+    /// Seed 000 Table 1: A*, Theta*, OHA* on random 100x50 maps.
+    Table1 {
+        #[arg(long, default_value_t = 500)]
+        runs: usize,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Share of blocked cells, percent (default: the calibrated 20).
+        #[arg(long, default_value_t = robovac::maps::TABLE1_MAP.density_pct)]
+        density: u32,
+        /// Side of the corner squares starts and goals are drawn from.
+        #[arg(long, default_value_t = robovac::maps::TABLE1_CORNER)]
+        corner: u32,
+        /// Print one JSON object.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+fn parse_cell(s: &str) -> Result<Cell, String> {
+    let (x, y) = s
+        .split_once(',')
+        .ok_or_else(|| format!("{s:?} is not X,Y"))?;
+    let x: u16 = x.trim().parse().map_err(|_| format!("{x:?} is not a cell column"))?;
+    let y: u16 = y.trim().parse().map_err(|_| format!("{y:?} is not a cell row"))?;
+    Ok(Cell::new(x, y))
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(msg) => {
+            eprintln!("error: {msg}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<(), String> {
+    match cli.cmd {
+        Cmd::Demo => {
+            print!("{}", host_sim::demo::run()?);
+            Ok(())
+        }
+        Cmd::Search {
+            map,
+            from,
+            to,
+            algo,
+            json,
+        } => cmd_search(&map, from, to, algo.into(), json),
+        Cmd::Scen {
+            scen,
+            map,
+            algo,
+            json,
+        } => cmd_scen(&scen, &map, algo.into(), json),
+        Cmd::Bench {
+            which:
+                BenchCmd::Table1 {
+                    runs,
+                    seed,
+                    density,
+                    corner,
+                    json,
+                },
+        } => cmd_table1(runs, seed, density, corner, json),
+    }
+}
+
+fn cmd_search(args: &MapArgs, from: Cell, to: Cell, algo: Algo, json: bool) -> Result<(), String> {
+    let map = args.load()?;
+    let mut grid = new_grid();
+    map.to_grid(&mut *grid).map_err(|e| e.to_string())?;
+    let mut state = new_search();
+    let mut path = vec![Cell::default(); grid.cells()];
+    let t0 = Instant::now();
+    let stats = state
+        .search(&*grid, from, &[to], algo)
+        .map_err(|e| format!("{}: {e}", args.map.display()))?;
+    let n = state.write_path(&mut path).map_err(|e| e.to_string())?;
+    let us = t0.elapsed().as_secs_f64() * 1e6;
+    let full = path[..n].to_vec();
+    let m = prune(&*grid, &mut path[..n]);
+    let pruned = &path[..m];
+    let cost = polyline_length(&full);
+    let pruned_len = polyline_length(pruned);
+    if json {
+        let pts = |p: &[Cell]| p.iter().map(|c| json!([c.x, c.y])).collect::<Vec<_>>();
+        let out = json!({
+            "map": args.map.display().to_string(),
+            "algo": algo_name(algo),
+            "from": [from.x, from.y],
+            "to": [to.x, to.y],
+            "path": pts(&full),
+            "cost": cost,
+            "pruned_path": pts(pruned),
+            "pruned_length": pruned_len,
+            "nodes_expanded": stats.nodes_expanded,
+            "time_us": us,
+        });
+        println!("{out}");
+    } else {
+        let fmt = |p: &[Cell]| {
+            p.iter()
+                .map(|c| format!("({},{})", c.x, c.y))
+                .collect::<Vec<_>>()
+                .join(" ")
+        };
+        println!("algo            {}", algo_name(algo));
+        println!("path            {}", fmt(&full));
+        println!("cost            {cost:.4} cells ({} cells on the path)", n);
+        println!("pruned          {}", fmt(pruned));
+        println!("pruned length   {pruned_len:.4} cells ({m} waypoints)");
+        println!("nodes expanded  {}", stats.nodes_expanded);
+        println!("time            {us:.1} us");
+    }
+    Ok(())
+}
+
+fn cmd_scen(scen: &Path, args: &MapArgs, algo: Algo, json: bool) -> Result<(), String> {
+    let bytes = std::fs::read(scen).map_err(|e| format!("{}: cannot read: {e}", scen.display()))?;
+    let problems = parse_scen(scen, &bytes).map_err(|e| e.to_string())?;
+    let map = args.load()?;
+    let rep = run_scen(&map, &problems, algo).map_err(|e| e.to_string())?;
+    if json {
+        let out = json!({
+            "algo": rep.algo,
+            "problems": rep.problems,
+            "solved": rep.solved,
+            "optimal_mismatches": rep.optimal_mismatches,
+            "mean_cost_ratio": rep.mean_cost_ratio,
+            "mean_nodes_expanded": rep.mean_nodes_expanded,
+            "median_query_us": rep.median_query_us,
+            "mean_pruned_cost": rep.mean_pruned_cost,
+            "mismatch_examples": rep.mismatch_examples,
+        });
+        println!("{out}");
+    } else {
+        println!("scenario             {}", scen.display());
+        println!("algo                 {}", rep.algo);
+        println!("problems             {}", rep.problems);
+        println!("solved               {}", rep.solved);
+        println!("optimal mismatches   {}", rep.optimal_mismatches);
+        println!("mean cost ratio      {:.6}", rep.mean_cost_ratio);
+        println!("mean nodes expanded  {:.1}", rep.mean_nodes_expanded);
+        println!("median query         {:.1} us", rep.median_query_us);
+        for m in &rep.mismatch_examples {
+            println!("  mismatch: {m}");
+        }
+    }
+    Ok(())
+}
+
+fn cmd_table1(runs: usize, seed: u64, density: u32, corner: u32, json: bool) -> Result<(), String> {
+    if runs == 0 {
+        return Err("--runs must be at least 1".into());
+    }
+    if density > 60 {
+        return Err("--density above 60 % leaves almost no reachable pairs".into());
+    }
+    let map = robovac::maps::RandomMap {
+        density_pct: density,
+        ..robovac::maps::TABLE1_MAP
+    };
+    let rows = host_sim::bench::table1(runs, seed, map, corner, |done, total| {
+        if !json && (done % 10 == 0 || done == total) {
+            let w = 40 * done / total;
+            eprint!("\r[{}{}] {done}/{total}", "#".repeat(w), " ".repeat(40 - w));
+            let _ = std::io::stderr().flush();
+            if done == total {
+                eprintln!();
+            }
+        }
+    });
+    if json {
+        let mut obj = serde_json::Map::new();
+        obj.insert("runs".into(), json!(runs));
+        obj.insert("seed".into(), json!(seed));
+        obj.insert("density_pct".into(), json!(density));
+        obj.insert("corner".into(), json!(corner));
+        for r in &rows {
+            obj.insert(
+                r.algo.into(),
+                json!({
+                    "mean_time_us": r.mean_time_us,
+                    "mean_cost": r.mean_cost,
+                    "mean_cost_unpruned": r.mean_cost_unpruned,
+                    "mean_cost_pruned": r.mean_cost_pruned,
+                    "mean_nodes": r.mean_nodes,
+                    "paper": {"time_s": r.paper.0, "cost": r.paper.1, "nodes": r.paper.2},
+                }),
+            );
+        }
+        println!("{}", serde_json::Value::Object(obj));
+    } else {
+        println!("Seed 000 Table 1: {runs} random 100x50 maps ({density}% blocked, corner {corner}), seed {seed}");
+        println!(
+            "{:<7} {:>12} {:>10} | {:>10} {:>10} {:>10} | {:>10} {:>10}",
+            "algo", "ours us", "paper s", "ours cost", "pruned", "paper", "ours nodes", "paper"
+        );
+        for r in &rows {
+            println!(
+                "{:<7} {:>12.1} {:>10.2} | {:>10.2} {:>10.2} {:>10.2} | {:>10.1} {:>10.2}",
+                r.algo, r.mean_time_us, r.paper.0, r.mean_cost, r.mean_cost_pruned, r.paper.1, r.mean_nodes, r.paper.2
+            );
+        }
+        println!("cost = A* unpruned 8-connected, Theta* any-angle, OHA* after pruning (as in the paper)");
+        if let (Some(a), Some(o)) = (rows.iter().find(|r| r.algo == "astar"), rows.iter().find(|r| r.algo == "oha")) {
+            println!(
+                "OHA*/A* nodes {:.3} (paper {:.3}); OHA* pruned cost / A* cost {:.4} (paper {:.4})",
+                o.mean_nodes / a.mean_nodes,
+                659.45 / 1267.55,
+                o.mean_cost / a.mean_cost,
+                115.78 / 120.94
+            );
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,33 @@
+//! Host-sized capacities: maps up to 1024 × 1024 cells (MovingAI benchmark
+//! maps are 512 × 512; real floor plans resampled to robot cells are far
+//! smaller).
+
+use robovac::bits::words_for;
+use robovac::{Grid, SearchState};
+
+/// Largest map the CLI takes, in cells.
+pub const HOST_CELLS: usize = 1024 * 1024;
+/// Bitset words for the host map.
+pub const HOST_WORDS: usize = words_for(HOST_CELLS);
+/// Open-list capacity on the host (one entry per cell: it never fills).
+pub const HOST_OPEN: usize = HOST_CELLS;
+
+/// The host grid.
+pub type HostGrid = Grid<HOST_WORDS>;
+/// The host search state (about 28 MB).
+pub type HostSearch = SearchState<HOST_CELLS, HOST_WORDS, HOST_OPEN>;
+
+/// A host grid on the heap.
+pub fn new_grid() -> Box<HostGrid> {
+    Box::new(HostGrid::new())
+}
+
+/// A host search state on the heap, without building it on the stack.
+pub fn new_search() -> Box<HostSearch> {
+    let b = Box::<HostSearch>::new_zeroed();
+    // SAFETY: `SearchState` consists only of integers, arrays of integers,
+    // a `#[repr(u8)]` enum whose discriminant 0 is a variant, and structs of
+    // those; its documentation guarantees that all-zero bytes are a valid
+    // idle state equal to `SearchState::new()`.
+    unsafe { b.assume_init() }
+}

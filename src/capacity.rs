@@ -1,0 +1,73 @@
+//! Every compile-time capacity of the firmware, in one place.
+//!
+//! The search state costs 8 bytes per cell (u32 g-score and u32 parent; the
+//! parent must be a full index because Theta* parents can be any cell), two
+//! bits per cell of bitsets, and 12 bytes per open-list entry. The STM32F411
+//! has 128 KiB of RAM, so the firmware plans on maps of up to 64 × 64 cells
+//! (19.2 m square at 0.3 m cells): 45 KiB of search state. A 128 × 128 map
+//! needs 184 KiB and an STM32F4 with more RAM; its size is asserted below so
+//! that any growth of the state is caught at compile time.
+
+use crate::bits::words_for;
+use crate::grid::Grid;
+use crate::search::SearchState;
+
+/// Largest firmware map side, in cells.
+pub const FW_SIDE: usize = 64;
+/// Largest firmware map, in cells.
+pub const FW_CELLS: usize = FW_SIDE * FW_SIDE;
+/// Bitset words for the firmware map.
+pub const FW_WORDS: usize = words_for(FW_CELLS);
+/// Firmware open-list capacity (entries).
+pub const FW_OPEN: usize = 1024;
+
+/// The firmware's grid.
+pub type FwGrid = Grid<FW_WORDS>;
+/// The firmware's search state.
+pub type FwSearch = SearchState<FW_CELLS, FW_WORDS, FW_OPEN>;
+
+/// Cells of the 100 × 50 benchmark map of seed 000's Table 1.
+pub const BENCH_CELLS: usize = 100 * 50;
+/// Bitset words for the 100 × 50 map.
+pub const BENCH_WORDS: usize = words_for(BENCH_CELLS);
+/// Open-list capacity for the 100 × 50 map.
+pub const BENCH_OPEN: usize = 2048;
+/// A grid for the 100 × 50 benchmark (used by the emulated run).
+pub type BenchGrid = Grid<BENCH_WORDS>;
+/// A search state for the 100 × 50 benchmark (used by the emulated run).
+pub type BenchSearch = SearchState<BENCH_CELLS, BENCH_WORDS, BENCH_OPEN>;
+
+/// Cells at the reference 128 × 128 capacity.
+pub const REF128_CELLS: usize = 128 * 128;
+/// Bitset words at 128 × 128.
+pub const REF128_WORDS: usize = words_for(REF128_CELLS);
+/// Open-list capacity at 128 × 128.
+pub const REF128_OPEN: usize = 4096;
+/// The search state at the reference 128 × 128 capacity.
+pub type Search128 = SearchState<REF128_CELLS, REF128_WORDS, REF128_OPEN>;
+/// The grid at the reference 128 × 128 capacity.
+pub type Grid128 = Grid<REF128_WORDS>;
+
+/// Bytes of search state per the layout above, without the small fixed part.
+pub const fn search_state_bytes(cells: usize, open: usize) -> usize {
+    cells * 8 + 2 * words_for(cells) * 4 + open * 12
+}
+
+/// Fixed part of the search state: goal list (64 cells), query fields.
+pub const SEARCH_FIXED_BYTES_MAX: usize = 64 * 4 + 64;
+
+/// 128 × 128: 131 072 (g, parent) + 4 096 (bitsets) + 49 152 (open list)
+/// = 184 320 bytes plus at most 320 fixed.
+pub const SEARCH128_BYTES: usize = core::mem::size_of::<Search128>();
+const _: () = assert!(SEARCH128_BYTES >= search_state_bytes(REF128_CELLS, REF128_OPEN));
+const _: () =
+    assert!(SEARCH128_BYTES <= search_state_bytes(REF128_CELLS, REF128_OPEN) + SEARCH_FIXED_BYTES_MAX);
+const _: () = assert!(SEARCH128_BYTES <= 184_640);
+
+/// The grid at 128 × 128: three 2 KiB layers plus the size.
+pub const GRID128_BYTES: usize = core::mem::size_of::<Grid128>();
+const _: () = assert!(GRID128_BYTES <= 3 * 2048 + 8);
+
+/// The firmware's search state fits comfortably in the F411's 128 KiB.
+pub const FW_SEARCH_BYTES: usize = core::mem::size_of::<FwSearch>();
+const _: () = assert!(FW_SEARCH_BYTES <= 46 * 1024);

@@ -1,0 +1,34 @@
+//! # robovac core
+//!
+//! The `#![no_std]`, allocation-free heart of the robot vacuum firmware: a
+//! bit-packed occupancy grid, fixed-capacity path search (A*, OHA*, Theta*,
+//! multi-goal), and path pruning. Everything here is hardware-free and sized
+//! at compile time with const generics, so the same code runs on the STM32F4
+//! and in `host-sim`.
+//!
+//! The algorithms follow the project's digest `ALGORITHMS.md` (seed 000 for
+//! OHA* and pruning, seed 004 for A*). Each algorithm lives in a file named
+//! for it; the machinery they share (grid, open list, line of sight, costs,
+//! the search loop) is written once.
+//!
+//! No function in this crate panics on any input: off-map coordinates read as
+//! blocked, capacities are checked and reported as typed errors.
+#![no_std]
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod astar;
+pub mod bits;
+pub mod capacity;
+pub mod cost;
+pub mod grid;
+pub mod los;
+pub mod maps;
+pub mod oha;
+pub mod open_list;
+pub mod prune;
+pub mod search;
+pub mod theta_star;
+
+pub use grid::{Cell, Grid, GridError};
+pub use search::{Algo, SearchError, SearchState, SearchStats};
