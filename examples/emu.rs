@@ -1,1 +1,397 @@
-fn main(){}
+//! The emulated Cortex-M4 run: the core's searches on built-in maps under
+//! `qemu-system-arm -machine netduinoplus2 -icount shift=0` (see
+//! `scripts/emu.sh`), with results checked on the target and each call's
+//! cost reported in instructions.
+//!
+//! **Instruction counting.** QEMU's `-icount shift=0` advances virtual time
+//! by exactly 1 ns per instruction, and SysTick (clocked from the CPU clock)
+//! counts virtual time, so SysTick ticks are proportional to instructions.
+//! The ratio is calibrated at start-up with a hand-written loop of a known
+//! instruction count (2 instructions per iteration) and every measurement is
+//! converted with it. SysTick wraps every 2^24 ticks; an exception counts
+//! the wraps, giving a 64-bit tick count. Nothing here touches RCC (QEMU
+//! does not model it: code there must not wait for a clock to lock).
+//!
+//! **Checks.** Every A* cost is compared with an independent Dijkstra
+//! written below (its own binary heap, no shared code), every path is
+//! checked step by step for obstacles and corner cutting, pruned paths are
+//! checked with line of sight and must not be longer, and OHA* must expand
+//! fewer nodes than A* overall. Any failure exits with status 1; a panic or
+//! a hard fault exits too, so CI never hangs.
+#![cfg_attr(target_os = "none", no_std)]
+#![cfg_attr(target_os = "none", no_main)]
+
+#[cfg(target_os = "none")]
+mod emu {
+    use core::sync::atomic::{AtomicU32, Ordering};
+
+    use cortex_m::peripheral::syst::SystClkSource;
+    use cortex_m::peripheral::SYST;
+    use cortex_m_rt::{entry, exception, ExceptionFrame};
+    use cortex_m_semihosting::debug;
+    use defmt_semihosting as _;
+    // Links the device's interrupt vector table; nothing touches RCC.
+    use stm32f4xx_hal as _;
+    use robovac::capacity::{BenchGrid, BenchSearch, BENCH_CELLS, SEARCH128_BYTES};
+    use robovac::cost::{COST_DIAGONAL, COST_PER_CELL};
+    use robovac::grid::Grid;
+    use robovac::los::line_of_sight;
+    use robovac::maps::{table1_instance, SplitMix64, FLAT_40X20, TABLE1_CORNER, TABLE1_MAP};
+    use robovac::prune::prune;
+    use robovac::{Algo, Cell};
+
+    /// Table 1 instances run on the target (the same generator and seed as
+    /// `host-sim bench table1 --seed 1`).
+    const INSTANCES: u32 = 20;
+
+    static WRAPS: AtomicU32 = AtomicU32::new(0);
+
+    #[exception]
+    fn SysTick() {
+        WRAPS.fetch_add(1, Ordering::Relaxed);
+    }
+
+    #[exception]
+    unsafe fn HardFault(_ef: &ExceptionFrame) -> ! {
+        defmt::error!("hard fault");
+        debug::exit(debug::EXIT_FAILURE);
+        loop {}
+    }
+
+    #[panic_handler]
+    fn panic(info: &core::panic::PanicInfo) -> ! {
+        defmt::error!("panic: {}", defmt::Display2Format(info));
+        debug::exit(debug::EXIT_FAILURE);
+        loop {}
+    }
+
+    fn ticks() -> u64 {
+        loop {
+            let w1 = WRAPS.load(Ordering::Acquire);
+            let v = SYST::get_current();
+            let w2 = WRAPS.load(Ordering::Acquire);
+            if w1 == w2 {
+                return ((w1 as u64) << 24) + (0x00FF_FFFF - v as u64);
+            }
+        }
+    }
+
+    /// Runs `n` iterations of a two-instruction loop.
+    fn known_loop(n: u32) {
+        if n == 0 {
+            return;
+        }
+        // SAFETY: a register-only countdown loop; touches no memory.
+        unsafe {
+            core::arch::asm!(
+                "2:",
+                "subs {n}, {n}, #1",
+                "bne 2b",
+                n = inout(reg) n => _,
+                options(nomem, nostack),
+            );
+        }
+    }
+
+    /// Instructions per 1000 ticks, calibrated against the known loop.
+    fn calibrate() -> u64 {
+        let n = 2_000_000u32;
+        let t0 = ticks();
+        known_loop(n);
+        let t = ticks() - t0;
+        defmt::println!("calibration: {} SysTick ticks for a {}-instruction loop", t, 2 * n);
+        (2 * n as u64 * 1000) / t.max(1)
+    }
+
+    struct Meter {
+        insn_per_kilotick: u64,
+    }
+
+    impl Meter {
+        fn measure<R>(&self, f: impl FnOnce() -> R) -> (R, u64) {
+            let t0 = ticks();
+            let r = f();
+            let t = ticks() - t0;
+            (r, t * self.insn_per_kilotick / 1000)
+        }
+    }
+
+    // ---- independent checker: a small Dijkstra of its own -------------
+
+    /// Oracle heap entries (lazy deletion; a full heap fails the run loudly).
+    const HEAP_CAP: usize = 2048;
+    /// Longest path the run reads out.
+    const PATH_CAP: usize = 1024;
+
+    struct Oracle {
+        dist: [u32; BENCH_CELLS],
+        heap: [(u32, u32); HEAP_CAP],
+    }
+
+    impl Oracle {
+        const fn new() -> Self {
+            Self {
+                dist: [0; BENCH_CELLS],
+                heap: [(0, 0); HEAP_CAP],
+            }
+        }
+
+        /// Exact optimal octile cost (same integer units) from s to t.
+        fn cost<const NW: usize>(&mut self, g: &Grid<NW>, s: Cell, t: Cell) -> Option<u32> {
+            let w = g.width() as i32;
+            let n = g.cells();
+            for d in self.dist.iter_mut().take(n) {
+                *d = u32::MAX;
+            }
+            let free = |x: i32, y: i32| g.contains(x, y) && !g.is_blocked(x, y);
+            let idx = |x: i32, y: i32| (y * w + x) as usize;
+            let mut len = 0usize;
+            self.dist[idx(s.x as i32, s.y as i32)] = 0;
+            self.push(&mut len, 0, idx(s.x as i32, s.y as i32) as u32);
+            while let Some((d, i)) = self.pop(&mut len) {
+                if d > self.dist[i as usize] {
+                    continue;
+                }
+                let (x, y) = ((i as i32) % w, (i as i32) / w);
+                if (x, y) == (t.x as i32, t.y as i32) {
+                    return Some(d);
+                }
+                for dy in -1..=1 {
+                    for dx in -1..=1 {
+                        if (dx, dy) == (0, 0) || !free(x + dx, y + dy) {
+                            continue;
+                        }
+                        let diag = dx != 0 && dy != 0;
+                        if diag && !(free(x + dx, y) && free(x, y + dy)) {
+                            continue;
+                        }
+                        let nd = d + if diag { COST_DIAGONAL } else { COST_PER_CELL };
+                        let j = idx(x + dx, y + dy);
+                        if nd < self.dist[j] {
+                            self.dist[j] = nd;
+                            if !self.push(&mut len, nd, j as u32) {
+                                fail("oracle heap full");
+                            }
+                        }
+                    }
+                }
+            }
+            None
+        }
+
+        fn push(&mut self, len: &mut usize, d: u32, i: u32) -> bool {
+            if *len >= HEAP_CAP {
+                return false;
+            }
+            let mut k = *len;
+            *len += 1;
+            while k > 0 && self.heap[(k - 1) / 2].0 > d {
+                self.heap[k] = self.heap[(k - 1) / 2];
+                k = (k - 1) / 2;
+            }
+            self.heap[k] = (d, i);
+            true
+        }
+
+        fn pop(&mut self, len: &mut usize) -> Option<(u32, u32)> {
+            if *len == 0 {
+                return None;
+            }
+            let top = self.heap[0];
+            *len -= 1;
+            let last = self.heap[*len];
+            let mut k = 0;
+            loop {
+                let mut c = 2 * k + 1;
+                if c >= *len {
+                    break;
+                }
+                if c + 1 < *len && self.heap[c + 1].0 < self.heap[c].0 {
+                    c += 1;
+                }
+                if self.heap[c].0 < last.0 {
+                    self.heap[k] = self.heap[c];
+                    k = c;
+                } else {
+                    break;
+                }
+            }
+            self.heap[k] = last;
+            Some(top)
+        }
+    }
+
+    /// Path check: 8-connected steps on free cells, no corner cutting.
+    /// Returns the octile cost in integer units.
+    fn check_steps<const NW: usize>(g: &Grid<NW>, p: &[Cell]) -> Option<u32> {
+        let mut cost = 0u32;
+        if p.iter().any(|c| g.is_blocked(c.x as i32, c.y as i32)) {
+            return None;
+        }
+        for w in p.windows(2) {
+            let (dx, dy) = (w[1].x as i32 - w[0].x as i32, w[1].y as i32 - w[0].y as i32);
+            if dx.abs() > 1 || dy.abs() > 1 || (dx, dy) == (0, 0) {
+                return None;
+            }
+            if dx != 0 && dy != 0 {
+                if g.is_blocked(w[0].x as i32 + dx, w[0].y as i32)
+                    || g.is_blocked(w[0].x as i32, w[0].y as i32 + dy)
+                {
+                    return None;
+                }
+                cost += COST_DIAGONAL;
+            } else {
+                cost += COST_PER_CELL;
+            }
+        }
+        Some(cost)
+    }
+
+    fn fail(what: &str) -> ! {
+        defmt::error!("CHECK FAILED: {}", what);
+        debug::exit(debug::EXIT_FAILURE);
+        loop {}
+    }
+
+    #[entry]
+    fn main() -> ! {
+        static mut GRID: BenchGrid = BenchGrid::new();
+        static mut SEARCH: BenchSearch = BenchSearch::new();
+        static mut ORACLE: Oracle = Oracle::new();
+        static mut PATH: [Cell; PATH_CAP] = [Cell::new(0, 0); PATH_CAP];
+
+        let Some(mut cp) = cortex_m::Peripherals::take() else {
+            fail("core peripherals");
+        };
+        cp.SYST.set_clock_source(SystClkSource::Core);
+        cp.SYST.set_reload(0x00FF_FFFF);
+        cp.SYST.clear_current();
+        cp.SYST.enable_interrupt();
+        cp.SYST.enable_counter();
+
+        // The counter reads 0 until its first reload (which raises no
+        // exception); wait for it so the first reading is not a false wrap.
+        let mut spins = 0u32;
+        while SYST::get_current() == 0 && spins < 1_000_000 {
+            spins += 1;
+        }
+        let kilo = calibrate();
+        defmt::println!(
+            "calibration: {}.{:03} instructions per SysTick tick",
+            kilo / 1000,
+            kilo % 1000
+        );
+        let meter = Meter { insn_per_kilotick: kilo };
+        // Self-check of the meter: a known 100 000-instruction loop.
+        let ((), k) = meter.measure(|| known_loop(50_000));
+        defmt::println!("meter check: 100000-instruction loop measured as {} instructions", k);
+        if !(99_000..=101_500).contains(&k) {
+            fail("instruction meter calibration");
+        }
+
+        // --- Built-in flat: OHA* with pruning ---------------------------
+        if GRID.load_ascii(FLAT_40X20).is_err() {
+            fail("built-in flat");
+        }
+        let (s, t) = (Cell::new(1, 1), Cell::new(38, 18));
+        let (res, insn) = meter.measure(|| SEARCH.search(GRID, s, &[t], Algo::Oha));
+        let Ok(stats) = res else { fail("OHA* on the flat") };
+        let Ok(n) = SEARCH.write_path(PATH) else { fail("path read-out") };
+        if check_steps(GRID, &PATH[..n]).is_none() {
+            fail("OHA* flat path invalid");
+        }
+        let m = prune(GRID, &mut PATH[..n]);
+        if PATH[..m].windows(2).any(|w| !line_of_sight(GRID, w[0], w[1])) {
+            fail("pruned flat path crosses an obstacle");
+        }
+        defmt::println!(
+            "flat 40x20 OHA*: cost {} units ({} cells), {} nodes, {} waypoints pruned, {} instructions",
+            stats.cost,
+            stats.cost / COST_PER_CELL,
+            stats.nodes_expanded,
+            m,
+            insn
+        );
+
+        // --- Seed 000 Table 1 maps ------------------------------------------
+        let mut rng = SplitMix64::new(1);
+        let mut sums = [(0u64, 0u64, 0u64); 3]; // (instructions, nodes, cost)
+        let mut max_insn = [0u64; 3];
+        let mut done = 0u32;
+        let algos = [(Algo::AStar, "A*"), (Algo::Oha, "OHA*"), (Algo::Theta, "Theta*")];
+        while done < INSTANCES {
+            let Ok(Some((s, t))) = table1_instance(GRID, &mut rng, TABLE1_MAP, TABLE1_CORNER) else {
+                continue;
+            };
+            if SEARCH.search(GRID, s, &[t], Algo::AStar).is_err() {
+                continue; // unreachable: draw again, as the host does
+            }
+            let Some(opt) = ORACLE.cost(GRID, s, t) else {
+                fail("oracle found no path where A* did");
+            };
+            let mut a_cost = 0u32;
+            for (k, (algo, name)) in algos.iter().enumerate() {
+                let (res, insn) = meter.measure(|| SEARCH.search(GRID, s, &[t], *algo));
+                let Ok(st) = res else { fail(name) };
+                let Ok(n) = SEARCH.write_path(PATH) else { fail("path read-out") };
+                if *algo == Algo::Theta {
+                    if PATH[..n].windows(2).any(|w| !line_of_sight(GRID, w[0], w[1])) {
+                        fail("Theta* segment crosses an obstacle");
+                    }
+                } else {
+                    let Some(c) = check_steps(GRID, &PATH[..n]) else {
+                        fail("path invalid")
+                    };
+                    if c != st.cost {
+                        fail("reported cost differs from the path's");
+                    }
+                    if *algo == Algo::AStar {
+                        if st.cost != opt {
+                            fail("A* cost differs from the independent Dijkstra");
+                        }
+                        a_cost = st.cost;
+                    } else if st.cost < a_cost {
+                        fail("OHA* beat the optimum");
+                    }
+                }
+                let m = prune(GRID, &mut PATH[..n]);
+                if PATH[..m].windows(2).any(|w| !line_of_sight(GRID, w[0], w[1])) {
+                    fail("pruned path crosses an obstacle");
+                }
+                sums[k].0 += insn;
+                sums[k].1 += st.nodes_expanded as u64;
+                sums[k].2 += st.cost as u64;
+                max_insn[k] = max_insn[k].max(insn);
+            }
+            done += 1;
+        }
+        for (k, (_, name)) in algos.iter().enumerate() {
+            let n = INSTANCES as u64;
+            defmt::println!(
+                "table1 100x50 {}: mean {} instructions/query (max {}), mean {} nodes, {} instructions/node",
+                name,
+                sums[k].0 / n,
+                max_insn[k],
+                sums[k].1 / n,
+                sums[k].0 / sums[k].1.max(1)
+            );
+        }
+        if sums[1].1 >= sums[0].1 {
+            fail("OHA* did not expand fewer nodes than A*");
+        }
+        defmt::println!(
+            "memory: search state 100x50 {} bytes, 128x128 {} bytes (asserted at compile time)",
+            core::mem::size_of::<BenchSearch>(),
+            SEARCH128_BYTES
+        );
+        defmt::println!("emulated run: all checks passed");
+        debug::exit(debug::EXIT_SUCCESS);
+        loop {}
+    }
+}
+
+#[cfg(not(target_os = "none"))]
+fn main() {
+    eprintln!("emu runs on the emulated Cortex-M4: bash scripts/emu.sh");
+    std::process::exit(2);
+}
