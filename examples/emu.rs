@@ -31,7 +31,6 @@ mod emu {
     use cortex_m_semihosting::debug;
     use defmt_semihosting as _;
     // Links the device's interrupt vector table; nothing touches RCC.
-    use stm32f4xx_hal as _;
     use robovac::capacity::{BenchGrid, BenchSearch, BENCH_CELLS, SEARCH128_BYTES};
     use robovac::cost::{COST_DIAGONAL, COST_PER_CELL};
     use robovac::grid::Grid;
@@ -39,6 +38,7 @@ mod emu {
     use robovac::maps::{table1_instance, SplitMix64, FLAT_40X20, TABLE1_CORNER, TABLE1_MAP};
     use robovac::prune::prune;
     use robovac::{Algo, Cell};
+    use stm32f4xx_hal as _;
 
     /// Table 1 instances run on the target (the same generator and seed as
     /// `host-sim bench table1 --seed 1`).
@@ -54,15 +54,21 @@ mod emu {
     #[exception]
     unsafe fn HardFault(_ef: &ExceptionFrame) -> ! {
         defmt::error!("hard fault");
-        debug::exit(debug::EXIT_FAILURE);
-        loop {}
+        exit(debug::EXIT_FAILURE)
     }
 
     #[panic_handler]
     fn panic(info: &core::panic::PanicInfo) -> ! {
         defmt::error!("panic: {}", defmt::Display2Format(info));
-        debug::exit(debug::EXIT_FAILURE);
-        loop {}
+        exit(debug::EXIT_FAILURE)
+    }
+
+    /// Ends the emulation with a status (QEMU exits with 0 or 1).
+    fn exit(status: debug::ExitStatus) -> ! {
+        debug::exit(status);
+        loop {
+            cortex_m::asm::wfi();
+        }
     }
 
     fn ticks() -> u64 {
@@ -99,7 +105,11 @@ mod emu {
         let t0 = ticks();
         known_loop(n);
         let t = ticks() - t0;
-        defmt::println!("calibration: {} SysTick ticks for a {}-instruction loop", t, 2 * n);
+        defmt::println!(
+            "calibration: {} SysTick ticks for a {}-instruction loop",
+            t,
+            2 * n
+        );
         (2 * n as u64 * 1000) / t.max(1)
     }
 
@@ -249,8 +259,7 @@ mod emu {
 
     fn fail(what: &str) -> ! {
         defmt::error!("CHECK FAILED: {}", what);
-        debug::exit(debug::EXIT_FAILURE);
-        loop {}
+        exit(debug::EXIT_FAILURE)
     }
 
     #[entry]
@@ -281,10 +290,15 @@ mod emu {
             kilo / 1000,
             kilo % 1000
         );
-        let meter = Meter { insn_per_kilotick: kilo };
+        let meter = Meter {
+            insn_per_kilotick: kilo,
+        };
         // Self-check of the meter: a known 100 000-instruction loop.
         let ((), k) = meter.measure(|| known_loop(50_000));
-        defmt::println!("meter check: 100000-instruction loop measured as {} instructions", k);
+        defmt::println!(
+            "meter check: 100000-instruction loop measured as {} instructions",
+            k
+        );
         if !(99_000..=101_500).contains(&k) {
             fail("instruction meter calibration");
         }
@@ -295,13 +309,20 @@ mod emu {
         }
         let (s, t) = (Cell::new(1, 1), Cell::new(38, 18));
         let (res, insn) = meter.measure(|| SEARCH.search(GRID, s, &[t], Algo::Oha));
-        let Ok(stats) = res else { fail("OHA* on the flat") };
-        let Ok(n) = SEARCH.write_path(PATH) else { fail("path read-out") };
+        let Ok(stats) = res else {
+            fail("OHA* on the flat")
+        };
+        let Ok(n) = SEARCH.write_path(PATH) else {
+            fail("path read-out")
+        };
         if check_steps(GRID, &PATH[..n]).is_none() {
             fail("OHA* flat path invalid");
         }
         let m = prune(GRID, &mut PATH[..n]);
-        if PATH[..m].windows(2).any(|w| !line_of_sight(GRID, w[0], w[1])) {
+        if PATH[..m]
+            .windows(2)
+            .any(|w| !line_of_sight(GRID, w[0], w[1]))
+        {
             fail("pruned flat path crosses an obstacle");
         }
         defmt::println!(
@@ -318,9 +339,14 @@ mod emu {
         let mut sums = [(0u64, 0u64, 0u64); 3]; // (instructions, nodes, cost)
         let mut max_insn = [0u64; 3];
         let mut done = 0u32;
-        let algos = [(Algo::AStar, "A*"), (Algo::Oha, "OHA*"), (Algo::Theta, "Theta*")];
+        let algos = [
+            (Algo::AStar, "A*"),
+            (Algo::Oha, "OHA*"),
+            (Algo::Theta, "Theta*"),
+        ];
         while done < INSTANCES {
-            let Ok(Some((s, t))) = table1_instance(GRID, &mut rng, TABLE1_MAP, TABLE1_CORNER) else {
+            let Ok(Some((s, t))) = table1_instance(GRID, &mut rng, TABLE1_MAP, TABLE1_CORNER)
+            else {
                 continue;
             };
             if SEARCH.search(GRID, s, &[t], Algo::AStar).is_err() {
@@ -333,9 +359,14 @@ mod emu {
             for (k, (algo, name)) in algos.iter().enumerate() {
                 let (res, insn) = meter.measure(|| SEARCH.search(GRID, s, &[t], *algo));
                 let Ok(st) = res else { fail(name) };
-                let Ok(n) = SEARCH.write_path(PATH) else { fail("path read-out") };
+                let Ok(n) = SEARCH.write_path(PATH) else {
+                    fail("path read-out")
+                };
                 if *algo == Algo::Theta {
-                    if PATH[..n].windows(2).any(|w| !line_of_sight(GRID, w[0], w[1])) {
+                    if PATH[..n]
+                        .windows(2)
+                        .any(|w| !line_of_sight(GRID, w[0], w[1]))
+                    {
                         fail("Theta* segment crosses an obstacle");
                     }
                 } else {
@@ -355,7 +386,10 @@ mod emu {
                     }
                 }
                 let m = prune(GRID, &mut PATH[..n]);
-                if PATH[..m].windows(2).any(|w| !line_of_sight(GRID, w[0], w[1])) {
+                if PATH[..m]
+                    .windows(2)
+                    .any(|w| !line_of_sight(GRID, w[0], w[1]))
+                {
                     fail("pruned path crosses an obstacle");
                 }
                 sums[k].0 += insn;
@@ -385,8 +419,7 @@ mod emu {
             SEARCH128_BYTES
         );
         defmt::println!("emulated run: all checks passed");
-        debug::exit(debug::EXIT_SUCCESS);
-        loop {}
+        exit(debug::EXIT_SUCCESS)
     }
 }
 

@@ -60,8 +60,9 @@ pub const SEARCH_FIXED_BYTES_MAX: usize = 64 * 4 + 64;
 /// = 184 320 bytes plus at most 320 fixed.
 pub const SEARCH128_BYTES: usize = core::mem::size_of::<Search128>();
 const _: () = assert!(SEARCH128_BYTES >= search_state_bytes(REF128_CELLS, REF128_OPEN));
-const _: () =
-    assert!(SEARCH128_BYTES <= search_state_bytes(REF128_CELLS, REF128_OPEN) + SEARCH_FIXED_BYTES_MAX);
+const _: () = assert!(
+    SEARCH128_BYTES <= search_state_bytes(REF128_CELLS, REF128_OPEN) + SEARCH_FIXED_BYTES_MAX
+);
 const _: () = assert!(SEARCH128_BYTES <= 184_640);
 
 /// The grid at 128 × 128: three 2 KiB layers plus the size.

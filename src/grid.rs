@@ -282,7 +282,11 @@ impl<const NW: usize> Grid<NW> {
     /// Loads an ASCII map: one line per row, `#` blocked, `.` free. Blank
     /// leading/trailing lines and trailing `\r` are ignored.
     pub fn load_ascii(&mut self, text: &str) -> Result<(), GridError> {
-        let rows = || text.lines().map(|l| l.trim_end_matches('\r')).filter(|l| !l.is_empty());
+        let rows = || {
+            text.lines()
+                .map(|l| l.trim_end_matches('\r'))
+                .filter(|l| !l.is_empty())
+        };
         let height = rows().count() as u32;
         let width = rows().next().map(|l| l.len() as u32).unwrap_or(0);
         self.reset(width, height)?;

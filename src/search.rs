@@ -335,7 +335,11 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
             if diagonal && (grid.is_blocked(x + dx, y) || grid.is_blocked(x, y + dy)) {
                 continue; // no corner cutting
             }
-            let step = if diagonal { COST_DIAGONAL } else { COST_PER_CELL };
+            let step = if diagonal {
+                COST_DIAGONAL
+            } else {
+                COST_PER_CELL
+            };
             let (cand, par) = match self.algo {
                 Algo::Theta => theta_star::relax(self, grid, i, gs, (nx, ny), step),
                 Algo::AStar | Algo::Oha => (gs.saturating_add(step), i as u32),

@@ -21,7 +21,13 @@ fn free_cells(g: &TGrid) -> Vec<Cell> {
     v
 }
 
-fn run(state: &mut TSearch, g: &TGrid, s: Cell, goals: &[Cell], algo: Algo) -> Result<(robovac::SearchStats, Vec<Cell>), SearchError> {
+fn run(
+    state: &mut TSearch,
+    g: &TGrid,
+    s: Cell,
+    goals: &[Cell],
+    algo: Algo,
+) -> Result<(robovac::SearchStats, Vec<Cell>), SearchError> {
     let st = state.search(g, s, goals, algo)?;
     let mut buf = vec![Cell::default(); g.cells()];
     let n = state.write_path(&mut buf)?;
@@ -154,28 +160,59 @@ fn errors_are_typed() {
     g.load_ascii("....\n.##.\n.#..\n#...\n").unwrap();
     let mut st = new_state();
     let a = Algo::AStar;
-    assert_eq!(st.search(&g, Cell::new(9, 0), &[Cell::new(0, 0)], a), Err(SearchError::StartOffMap));
-    assert_eq!(st.search(&g, Cell::new(1, 1), &[Cell::new(0, 0)], a), Err(SearchError::StartBlocked));
-    assert_eq!(st.search(&g, Cell::new(0, 0), &[Cell::new(0, 9)], a), Err(SearchError::GoalOffMap));
-    assert_eq!(st.search(&g, Cell::new(0, 0), &[Cell::new(2, 1)], a), Err(SearchError::GoalBlocked));
-    assert_eq!(st.search(&g, Cell::new(0, 0), &[], a), Err(SearchError::NoGoals));
+    assert_eq!(
+        st.search(&g, Cell::new(9, 0), &[Cell::new(0, 0)], a),
+        Err(SearchError::StartOffMap)
+    );
+    assert_eq!(
+        st.search(&g, Cell::new(1, 1), &[Cell::new(0, 0)], a),
+        Err(SearchError::StartBlocked)
+    );
+    assert_eq!(
+        st.search(&g, Cell::new(0, 0), &[Cell::new(0, 9)], a),
+        Err(SearchError::GoalOffMap)
+    );
+    assert_eq!(
+        st.search(&g, Cell::new(0, 0), &[Cell::new(2, 1)], a),
+        Err(SearchError::GoalBlocked)
+    );
+    assert_eq!(
+        st.search(&g, Cell::new(0, 0), &[], a),
+        Err(SearchError::NoGoals)
+    );
     let many = [Cell::new(0, 0); robovac::search::MAX_GOALS + 1];
-    assert_eq!(st.search(&g, Cell::new(0, 0), &many, a), Err(SearchError::TooManyGoals));
+    assert_eq!(
+        st.search(&g, Cell::new(0, 0), &many, a),
+        Err(SearchError::TooManyGoals)
+    );
     // (0,2) is enclosed: (1,2) and (0,3) blocked, and the diagonal to (1,3)
     // would cut the corner between them.
-    assert_eq!(st.search(&g, Cell::new(0, 0), &[Cell::new(1, 3)], a).map(|s| s.goal), Ok(Cell::new(1, 3)));
+    assert_eq!(
+        st.search(&g, Cell::new(0, 0), &[Cell::new(1, 3)], a)
+            .map(|s| s.goal),
+        Ok(Cell::new(1, 3))
+    );
     let mut g2 = TGrid::new();
     g2.load_ascii("..#.\n.#..\n").unwrap();
-    assert_eq!(st.search(&g2, Cell::new(0, 0), &[Cell::new(3, 0)], a), Err(SearchError::NoPath));
+    assert_eq!(
+        st.search(&g2, Cell::new(0, 0), &[Cell::new(3, 0)], a),
+        Err(SearchError::NoPath)
+    );
     let mut buf = [Cell::default(); 1];
     assert_eq!(st.write_path(&mut buf), Err(SearchError::NotRunning));
     // start == goal
-    let s = st.search(&g, Cell::new(0, 0), &[Cell::new(0, 0)], a).unwrap();
+    let s = st
+        .search(&g, Cell::new(0, 0), &[Cell::new(0, 0)], a)
+        .unwrap();
     assert_eq!((s.cost, s.path_cells), (0, 1));
     assert_eq!(st.write_path(&mut buf), Ok(1));
     // path buffer too small
-    st.search(&g, Cell::new(0, 0), &[Cell::new(3, 3)], a).unwrap();
-    assert_eq!(st.write_path(&mut buf), Err(SearchError::PathBufferTooSmall));
+    st.search(&g, Cell::new(0, 0), &[Cell::new(3, 3)], a)
+        .unwrap();
+    assert_eq!(
+        st.write_path(&mut buf),
+        Err(SearchError::PathBufferTooSmall)
+    );
     // resume without begin
     let mut fresh = new_state();
     assert_eq!(fresh.resume(&g, 10), Err(SearchError::NotRunning));
@@ -187,16 +224,23 @@ fn capacity_errors() {
     let mut g = TGrid::new();
     g.reset(20, 20).unwrap();
     let mut tiny: Box<robovac::SearchState<CELLS, W, 4>> = Box::new(robovac::SearchState::new());
-    assert_eq!(tiny.search(&g, Cell::new(0, 0), &[Cell::new(19, 19)], Algo::AStar), Err(SearchError::OpenListFull));
+    assert_eq!(
+        tiny.search(&g, Cell::new(0, 0), &[Cell::new(19, 19)], Algo::AStar),
+        Err(SearchError::OpenListFull)
+    );
     // A map larger than the state.
     let mut big: Box<Grid<{ 128 * 128 / 32 }>> = Box::new(Grid::new());
     big.reset(100, 100).unwrap();
     let mut st = new_state();
-    assert_eq!(st.search(&*big, Cell::new(0, 0), &[Cell::new(1, 1)], Algo::AStar), Err(SearchError::MapTooLarge));
+    assert_eq!(
+        st.search(&*big, Cell::new(0, 0), &[Cell::new(1, 1)], Algo::AStar),
+        Err(SearchError::MapTooLarge)
+    );
     // Resizing the map mid-search is detected.
     let mut g3 = TGrid::new();
     g3.reset(30, 30).unwrap();
-    st.begin(&g3, Cell::new(0, 0), &[Cell::new(29, 29)], Algo::Oha).unwrap();
+    st.begin(&g3, Cell::new(0, 0), &[Cell::new(29, 29)], Algo::Oha)
+        .unwrap();
     assert!(matches!(st.resume(&g3, 3), Ok(Progress::Pending { .. })));
     g3.reset(31, 30).unwrap();
     assert_eq!(st.resume(&g3, 3), Err(SearchError::MapChanged));
@@ -221,15 +265,30 @@ fn oha_fewer_nodes_and_pruned_cost_no_higher() {
         if !free(&g, 0, 0) || !free(&g, 59, 39) {
             continue;
         }
-        let Ok((a, ap)) = run(&mut st, &g, s, &[t], Algo::AStar) else { continue };
+        let Ok((a, ap)) = run(&mut st, &g, s, &[t], Algo::AStar) else {
+            continue;
+        };
         let (o, mut op) = run(&mut st, &g, s, &[t], Algo::Oha).unwrap();
         let m = prune(&g, &mut op);
-        assert!(polyline_len(&op[..m]) <= polyline_len(&ap) + 1e-9, "seed {seed}");
+        assert!(
+            polyline_len(&op[..m]) <= polyline_len(&ap) + 1e-9,
+            "seed {seed}"
+        );
         total.0 += a.nodes_expanded as u64;
         total.1 += o.nodes_expanded as u64;
         if seed == 0 {
-            assert!(o.nodes_expanded * 10 < a.nodes_expanded * 6, "OHA* {} vs A* {}", o.nodes_expanded, a.nodes_expanded);
+            assert!(
+                o.nodes_expanded * 10 < a.nodes_expanded * 6,
+                "OHA* {} vs A* {}",
+                o.nodes_expanded,
+                a.nodes_expanded
+            );
         }
     }
-    assert!(total.1 * 10 < total.0 * 6, "OHA* {} vs A* {} nodes", total.1, total.0);
+    assert!(
+        total.1 * 10 < total.0 * 6,
+        "OHA* {} vs A* {} nodes",
+        total.1,
+        total.0
+    );
 }

@@ -50,7 +50,8 @@ pub fn table1(
     let mut state = new_search();
     let mut rng = SplitMix64::new(seed);
     let mut path = vec![Cell::default(); (map.width * map.height) as usize];
-    let mut acc: Vec<[Vec<f64>; 4]> = vec![Default::default(), Default::default(), Default::default()];
+    let mut acc: Vec<[Vec<f64>; 4]> =
+        vec![Default::default(), Default::default(), Default::default()];
     let mut done = 0;
     while done < runs {
         let Ok(Some((s, g))) = table1_instance(&mut *grid, &mut rng, map, corner) else {

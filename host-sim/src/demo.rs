@@ -9,7 +9,11 @@ use crate::state::{new_grid, new_search};
 
 /// Renders a map with a path: `#` obstacle, `*` path cell, `S`/`G` ends,
 /// `o` pruned waypoints.
-pub fn render(grid: &robovac::Grid<{ crate::state::HOST_WORDS }>, path: &[Cell], waypoints: &[Cell]) -> String {
+pub fn render(
+    grid: &robovac::Grid<{ crate::state::HOST_WORDS }>,
+    path: &[Cell],
+    waypoints: &[Cell],
+) -> String {
     let mut out = String::new();
     for y in 0..grid.height() as i32 {
         for x in 0..grid.width() as i32 {

@@ -17,7 +17,11 @@ use robovac::prune::prune;
 use robovac::{Algo, Cell};
 
 #[derive(Parser)]
-#[command(name = "host-sim", version, about = "robovac host simulator: the firmware core on your PC")]
+#[command(
+    name = "host-sim",
+    version,
+    about = "robovac host simulator: the firmware core on your PC"
+)]
 struct Cli {
     #[command(subcommand)]
     cmd: Cmd,
@@ -129,8 +133,14 @@ fn parse_cell(s: &str) -> Result<Cell, String> {
     let (x, y) = s
         .split_once(',')
         .ok_or_else(|| format!("{s:?} is not X,Y"))?;
-    let x: u16 = x.trim().parse().map_err(|_| format!("{x:?} is not a cell column"))?;
-    let y: u16 = y.trim().parse().map_err(|_| format!("{y:?} is not a cell row"))?;
+    let x: u16 = x
+        .trim()
+        .parse()
+        .map_err(|_| format!("{x:?} is not a cell column"))?;
+    let y: u16 = y
+        .trim()
+        .parse()
+        .map_err(|_| format!("{y:?} is not a cell row"))?;
     Ok(Cell::new(x, y))
 }
 
@@ -311,11 +321,21 @@ fn cmd_table1(runs: usize, seed: u64, density: u32, corner: u32, json: bool) -> 
         for r in &rows {
             println!(
                 "{:<7} {:>12.1} {:>10.2} | {:>10.2} {:>10.2} {:>10.2} | {:>10.1} {:>10.2}",
-                r.algo, r.mean_time_us, r.paper.0, r.mean_cost, r.mean_cost_pruned, r.paper.1, r.mean_nodes, r.paper.2
+                r.algo,
+                r.mean_time_us,
+                r.paper.0,
+                r.mean_cost,
+                r.mean_cost_pruned,
+                r.paper.1,
+                r.mean_nodes,
+                r.paper.2
             );
         }
         println!("cost = A* unpruned 8-connected, Theta* any-angle, OHA* after pruning (as in the paper)");
-        if let (Some(a), Some(o)) = (rows.iter().find(|r| r.algo == "astar"), rows.iter().find(|r| r.algo == "oha")) {
+        if let (Some(a), Some(o)) = (
+            rows.iter().find(|r| r.algo == "astar"),
+            rows.iter().find(|r| r.algo == "oha"),
+        ) {
             println!(
                 "OHA*/A* nodes {:.3} (paper {:.3}); OHA* pruned cost / A* cost {:.4} (paper {:.4})",
                 o.mean_nodes / a.mean_nodes,

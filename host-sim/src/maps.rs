@@ -163,7 +163,11 @@ pub fn parse_ascii(path: &Path, bytes: &[u8]) -> Result<MapData, MapError> {
         if row.chars().count() != width {
             return err(
                 path,
-                format!("ASCII map row {} has {} cells, row 1 has {width}", y + 1, row.chars().count()),
+                format!(
+                    "ASCII map row {} has {} cells, row 1 has {width}",
+                    y + 1,
+                    row.chars().count()
+                ),
             );
         }
         for (x, c) in row.chars().enumerate() {
@@ -173,7 +177,11 @@ pub fn parse_ascii(path: &Path, bytes: &[u8]) -> Result<MapData, MapError> {
                 _ => {
                     return err(
                         path,
-                        format!("ASCII map: unexpected {c:?} at row {}, column {} (use # and .)", y + 1, x + 1),
+                        format!(
+                            "ASCII map: unexpected {c:?} at row {}, column {} (use # and .)",
+                            y + 1,
+                            x + 1
+                        ),
                     )
                 }
             }
@@ -203,10 +211,16 @@ pub fn parse_movingai(path: &Path, bytes: &[u8]) -> Result<MapData, MapError> {
         match (it.next(), it.next()) {
             (Some("type"), Some(_)) => saw_type = true,
             (Some("height"), Some(v)) => {
-                height = Some(v.parse().or_else(|_| err(path, format!("height {v:?} is not a number")))?)
+                height = Some(
+                    v.parse()
+                        .or_else(|_| err(path, format!("height {v:?} is not a number")))?,
+                )
             }
             (Some("width"), Some(v)) => {
-                width = Some(v.parse().or_else(|_| err(path, format!("width {v:?} is not a number")))?)
+                width = Some(
+                    v.parse()
+                        .or_else(|_| err(path, format!("width {v:?} is not a number")))?,
+                )
             }
             (Some("map"), None) => break,
             (None, _) => {}
@@ -232,9 +246,20 @@ pub fn parse_movingai(path: &Path, bytes: &[u8]) -> Result<MapData, MapError> {
         };
         let row = row.as_bytes();
         if row.len() < w as usize {
-            return err(path, format!("truncated: row {} has {} cells, width is {w}", y + 1, row.len()));
+            return err(
+                path,
+                format!(
+                    "truncated: row {} has {} cells, width is {w}",
+                    y + 1,
+                    row.len()
+                ),
+            );
         }
-        blocked.extend(row.iter().take(w as usize).map(|&c| !(c == b'.' || c == b'G')));
+        blocked.extend(
+            row.iter()
+                .take(w as usize)
+                .map(|&c| !(c == b'.' || c == b'G')),
+        );
     }
     Ok(MapData {
         width: w,
@@ -357,7 +382,10 @@ pub fn decode_pgm(path: &Path, bytes: &[u8], th: &RosThresholds) -> Result<GreyI
     }
     let magic = tokens[0].as_str();
     if magic != "P5" && magic != "P2" {
-        return err(path, format!("not a PGM (magic {magic:?}, expected P5 or P2)"));
+        return err(
+            path,
+            format!("not a PGM (magic {magic:?}, expected P5 or P2)"),
+        );
     }
     let num = |s: &str, what: &str| -> Result<u32, MapError> {
         s.parse::<u32>()
@@ -379,7 +407,10 @@ pub fn decode_pgm(path: &Path, bytes: &[u8], th: &RosThresholds) -> Result<GreyI
         let bpp = if maxval > 255 { 2 } else { 1 };
         let data = bytes.get(pos..).unwrap_or(&[]);
         if data.len() < n * bpp {
-            return err(path, format!("truncated PGM: {} of {} data bytes", data.len(), n * bpp));
+            return err(
+                path,
+                format!("truncated PGM: {} of {} data bytes", data.len(), n * bpp),
+            );
         }
         for k in 0..n {
             values.push(if bpp == 2 {
@@ -395,7 +426,10 @@ pub fn decode_pgm(path: &Path, bytes: &[u8], th: &RosThresholds) -> Result<GreyI
             values.push(num(tok, "value")?);
         }
         if values.len() < n {
-            return err(path, format!("truncated PGM: {} of {n} values", values.len()));
+            return err(
+                path,
+                format!("truncated PGM: {} of {n} values", values.len()),
+            );
         }
     }
     let free = values
@@ -462,7 +496,12 @@ pub fn load_ros_yaml(path: &Path, bytes: &[u8], opts: LoadOptions) -> Result<Map
 /// Resamples an image of `res_m` metres per pixel to cells of `cell_m`
 /// metres (a cell is free only if every pixel in it is free; pixels past
 /// the image edge count as blocked). Without `cell_m`, one cell per pixel.
-pub fn resample(path: &Path, img: GreyImage, res_m: f64, cell_m: Option<f64>) -> Result<MapData, MapError> {
+pub fn resample(
+    path: &Path,
+    img: GreyImage,
+    res_m: f64,
+    cell_m: Option<f64>,
+) -> Result<MapData, MapError> {
     let Some(cell) = cell_m else {
         return Ok(MapData {
             width: img.width,
@@ -472,8 +511,11 @@ pub fn resample(path: &Path, img: GreyImage, res_m: f64, cell_m: Option<f64>) ->
         });
     };
     let k = (cell / res_m).round();
-    if !(k >= 1.0 && k <= 4096.0) {
-        return err(path, format!("--cell {cell} m is smaller than a pixel ({res_m} m)"));
+    if !(1.0..=4096.0).contains(&k) {
+        return err(
+            path,
+            format!("--cell {cell} m is smaller than a pixel ({res_m} m)"),
+        );
     }
     let k = k as u32;
     let w = img.width.div_ceil(k);

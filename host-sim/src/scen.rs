@@ -51,7 +51,11 @@ pub fn parse_scen(path: &Path, bytes: &[u8]) -> Result<Vec<Problem>, MapError> {
             line.split_whitespace().collect()
         };
         if f.len() != 9 {
-            return Err(e(format!("line {}: expected 9 fields, found {}", n + 1, f.len())));
+            return Err(e(format!(
+                "line {}: expected 9 fields, found {}",
+                n + 1,
+                f.len()
+            )));
         }
         let int = |s: &str, what: &str| -> Result<u32, MapError> {
             s.parse::<u32>()
@@ -59,13 +63,20 @@ pub fn parse_scen(path: &Path, bytes: &[u8]) -> Result<Vec<Problem>, MapError> {
         };
         let cell = |x: &str, y: &str| -> Result<Cell, MapError> {
             let (x, y) = (int(x, "x")?, int(y, "y")?);
-            Cell::from_xy(x as i32, y as i32).ok_or_else(|| e(format!("line {}: coordinate out of range", n + 1)))
+            Cell::from_xy(x as i32, y as i32)
+                .ok_or_else(|| e(format!("line {}: coordinate out of range", n + 1)))
         };
         let optimal: f64 = f[8]
             .parse()
             .ok()
             .filter(|v: &f64| v.is_finite())
-            .ok_or_else(|| e(format!("line {}: optimal {:?} is not a number", n + 1, f[8])))?;
+            .ok_or_else(|| {
+                e(format!(
+                    "line {}: optimal {:?} is not a number",
+                    n + 1,
+                    f[8]
+                ))
+            })?;
         out.push(Problem {
             bucket: int(f[0], "bucket")?,
             map: f[1].to_string(),
@@ -122,7 +133,8 @@ pub fn run_scen(map: &MapData, problems: &[Problem], algo: Algo) -> Result<ScenR
         problems: problems.len(),
         ..Default::default()
     };
-    let (mut ratios, mut nodes, mut times, mut pruned) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let (mut ratios, mut nodes, mut times, mut pruned) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for (k, p) in problems.iter().enumerate() {
         if p.width != map.width || p.height != map.height {
             return Err(MapError(format!(
@@ -142,7 +154,8 @@ pub fn run_scen(map: &MapData, problems: &[Problem], algo: Algo) -> Result<ScenR
             // An unsolved problem differs from its recorded optimum too.
             rep.optimal_mismatches += 1;
             if rep.mismatch_examples.len() < 5 {
-                rep.mismatch_examples.push(format!("problem {}: no path found", k + 1));
+                rep.mismatch_examples
+                    .push(format!("problem {}: no path found", k + 1));
             }
             continue;
         };

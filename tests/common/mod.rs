@@ -10,7 +10,11 @@ use robovac::{Cell, Grid};
 pub const SQ2: f64 = std::f64::consts::SQRT_2;
 
 pub fn free(grid: &Grid<{ W }>, x: i32, y: i32) -> bool {
-    x >= 0 && y >= 0 && (x as u32) < grid.width() && (y as u32) < grid.height() && !grid.is_blocked(x, y)
+    x >= 0
+        && y >= 0
+        && (x as u32) < grid.width()
+        && (y as u32) < grid.height()
+        && !grid.is_blocked(x, y)
 }
 
 /// Test capacity: up to 64 × 64 cells.
@@ -79,14 +83,21 @@ pub fn dijkstra(grid: &TGrid, s: Cell) -> Vec<f64> {
 pub fn check_grid_path(grid: &TGrid, path: &[Cell]) -> f64 {
     let mut len = 0.0;
     for c in path {
-        assert!(free(grid, c.x as i32, c.y as i32), "path enters blocked {c:?}");
+        assert!(
+            free(grid, c.x as i32, c.y as i32),
+            "path enters blocked {c:?}"
+        );
     }
     for w in path.windows(2) {
         let (dx, dy) = (w[1].x as i32 - w[0].x as i32, w[1].y as i32 - w[0].y as i32);
-        assert!(dx.abs() <= 1 && dy.abs() <= 1 && (dx, dy) != (0, 0), "not a step: {w:?}");
+        assert!(
+            dx.abs() <= 1 && dy.abs() <= 1 && (dx, dy) != (0, 0),
+            "not a step: {w:?}"
+        );
         if dx != 0 && dy != 0 {
             assert!(
-                free(grid, w[0].x as i32 + dx, w[0].y as i32) && free(grid, w[0].x as i32, w[0].y as i32 + dy),
+                free(grid, w[0].x as i32 + dx, w[0].y as i32)
+                    && free(grid, w[0].x as i32, w[0].y as i32 + dy),
                 "corner cut at {w:?}"
             );
             len += SQ2;
@@ -128,7 +139,10 @@ pub fn segment_clear(grid: &TGrid, a: Cell, b: Cell) -> bool {
 
 pub fn polyline_len(p: &[Cell]) -> f64 {
     p.windows(2)
-        .map(|w| ((w[0].x as f64 - w[1].x as f64).powi(2) + (w[0].y as f64 - w[1].y as f64).powi(2)).sqrt())
+        .map(|w| {
+            ((w[0].x as f64 - w[1].x as f64).powi(2) + (w[0].y as f64 - w[1].y as f64).powi(2))
+                .sqrt()
+        })
         .sum()
 }
 

@@ -1,0 +1,152 @@
+//! The command line as a user meets it: exit codes, messages, JSON.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_host-sim"))
+}
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn json(args: &[&str]) -> serde_json::Value {
+    let out = bin().args(args).current_dir(repo()).output().unwrap();
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+#[test]
+fn bad_input_exits_2_with_one_line() {
+    let dir = std::env::temp_dir().join(format!("robovac-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let trunc = dir.join("t.map");
+    std::fs::write(&trunc, "type octile\nheight 9\nwidth 9\nmap\n.........\n").unwrap();
+    let ascii = dir.join("a.txt");
+    std::fs::write(&ascii, "....\n.##.\n....\n").unwrap();
+    let t = trunc.to_str().unwrap();
+    let a = ascii.to_str().unwrap();
+    let cases: Vec<Vec<&str>> = vec![
+        vec![
+            "search",
+            "--map",
+            "/nonexistent/x.map",
+            "--from",
+            "0,0",
+            "--to",
+            "1,1",
+        ],
+        vec!["search", "--map", t, "--from", "0,0", "--to", "1,1"],
+        vec!["search", "--map", a, "--from", "0,0", "--to", "1,1"],
+        vec!["search", "--map", a, "--from", "0,0", "--to", "99,1"],
+        vec!["search", "--map", a, "--from", "a,b", "--to", "1,1"],
+        vec![
+            "search", "--map", a, "--from", "0,0", "--to", "1,1", "--algo", "dijkstra",
+        ],
+        vec![
+            "search", "--map", a, "--from", "0,0", "--to", "3,2", "--cell", "-1",
+        ],
+        vec!["scen", "/nonexistent.scen", "--map", a],
+        vec!["bench", "table1", "--runs", "0"],
+        vec!["bench", "table1", "--runs", "ten"],
+        vec!["frobnicate"],
+    ];
+    for args in cases {
+        let out = bin().args(&args).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(
+            !err.contains("panicked") && !err.contains("backtrace"),
+            "{args:?}: {err}"
+        );
+        assert!(!err.trim().is_empty());
+    }
+}
+
+#[test]
+fn search_json_has_the_fields() {
+    let dir = std::env::temp_dir().join(format!("robovac-cli-s-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let ascii = dir.join("a.txt");
+    std::fs::write(&ascii, "......\n.####.\n......\n").unwrap();
+    for algo in ["astar", "oha", "theta"] {
+        let j = json(&[
+            "search",
+            "--map",
+            ascii.to_str().unwrap(),
+            "--from",
+            "0,1",
+            "--to",
+            "5,1",
+            "--algo",
+            algo,
+            "--json",
+        ]);
+        assert_eq!(j["algo"], algo);
+        assert!(j["nodes_expanded"].as_u64().unwrap() > 0);
+        assert!(j["cost"].as_f64().unwrap() >= 5.0);
+        assert!(j["pruned_length"].as_f64().unwrap() <= j["cost"].as_f64().unwrap() + 1e-9);
+        assert_eq!(j["path"][0], serde_json::json!([0, 1]));
+        assert!(j["time_us"].as_f64().is_some());
+    }
+}
+
+/// MovingAI correctness: on our own maps (rooms, a maze of one-cell
+/// corridors, an open area) and on the 512x512 8room benchmark map, with
+/// optima computed independently by scripts/make_scen.py, A* has no
+/// optimal mismatch and solves every problem.
+#[test]
+fn movingai_astar_is_optimal() {
+    for m in ["rooms64", "maze49", "open96x72", "8room_001"] {
+        let scen = format!("maps/movingai/{m}.map.scen");
+        let map = format!("maps/movingai/{m}.map");
+        let j = json(&["scen", &scen, "--map", &map, "--algo", "astar", "--json"]);
+        assert_eq!(j["optimal_mismatches"], 0, "{m}: {j}");
+        assert_eq!(j["solved"], j["problems"], "{m}");
+        assert!(j["problems"].as_u64().unwrap() >= 200);
+        assert!((j["mean_cost_ratio"].as_f64().unwrap() - 1.0).abs() < 1e-9);
+        for key in ["algo", "mean_nodes_expanded", "median_query_us"] {
+            assert!(!j[key].is_null(), "{key}");
+        }
+        // OHA* and Theta* solve everything too; OHA* never beats the optimum.
+        let o = json(&["scen", &scen, "--map", &map, "--algo", "oha", "--json"]);
+        assert_eq!(o["solved"], o["problems"]);
+        assert!(o["mean_cost_ratio"].as_f64().unwrap() >= 1.0 - 1e-9);
+        assert!(
+            o["mean_nodes_expanded"].as_f64().unwrap() < j["mean_nodes_expanded"].as_f64().unwrap()
+        );
+        let t = json(&["scen", &scen, "--map", &map, "--algo", "theta", "--json"]);
+        assert_eq!(t["solved"], t["problems"]);
+    }
+}
+
+#[test]
+fn table1_small_run_keeps_the_papers_order() {
+    let j = json(&["bench", "table1", "--runs", "60", "--seed", "7", "--json"]);
+    let a = &j["astar"];
+    let o = &j["oha"];
+    let t = &j["theta"];
+    for r in [a, o, t] {
+        for k in ["mean_time_us", "mean_cost", "mean_nodes"] {
+            assert!(r[k].as_f64().unwrap() > 0.0, "{k}");
+        }
+    }
+    let an = a["mean_nodes"].as_f64().unwrap();
+    let on = o["mean_nodes"].as_f64().unwrap();
+    assert!(on < 0.6 * an, "OHA* {on} vs A* {an}");
+    // OHA*'s pruned cost is no higher than A*'s unpruned 8-connected cost.
+    assert!(o["mean_cost"].as_f64().unwrap() <= a["mean_cost"].as_f64().unwrap());
+}
+
+#[test]
+fn demo_runs() {
+    let out = bin().arg("demo").output().unwrap();
+    assert!(out.status.success());
+    let s = String::from_utf8_lossy(&out.stdout);
+    assert!(s.contains("nodes expanded") && s.contains('S') && s.contains('G'));
+}
