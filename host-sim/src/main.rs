@@ -1,7 +1,7 @@
 //! The `host-sim` command line. Bad input ends with a one-line message on
 //! stderr and exit code 2, never a backtrace.
 
-use std::io::Write;
+use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -283,7 +283,7 @@ fn cmd_table1(runs: usize, seed: u64, density: u32, corner: u32, json: bool) -> 
         ..robovac::maps::TABLE1_MAP
     };
     let rows = host_sim::bench::table1(runs, seed, map, corner, |done, total| {
-        if !json && (done % 10 == 0 || done == total) {
+        if !json && std::io::stderr().is_terminal() && (done % 10 == 0 || done == total) {
             let w = 40 * done / total;
             eprint!("\r[{}{}] {done}/{total}", "#".repeat(w), " ".repeat(40 - w));
             let _ = std::io::stderr().flush();
