@@ -17,13 +17,20 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod angle;
 pub mod astar;
+pub mod b_oha;
+pub mod b_oha_pc;
+pub mod b_theta;
+pub mod ba_star;
 pub mod bits;
 pub mod capacity;
 pub mod cost;
+pub mod coverage;
 pub mod grid;
 pub mod los;
 pub mod maps;
+pub mod metrics;
 pub mod oha;
 pub mod open_list;
 pub mod prune;

@@ -6,5 +6,7 @@ pub mod bench;
 pub mod demo;
 pub mod maps;
 pub mod metrics;
+pub mod plan;
 pub mod scen;
 pub mod state;
+pub mod svg;

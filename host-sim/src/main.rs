@@ -102,6 +102,23 @@ enum Cmd {
         #[arg(long)]
         json: bool,
     },
+    /// Plan a complete coverage of a map.
+    Plan {
+        #[command(flatten)]
+        map: MapArgs,
+        /// b-oha, ba, b-theta or b-oha-pc (ours).
+        #[arg(long, default_value = "b-oha")]
+        planner: String,
+        /// Start cell X,Y (default: the first free cell in reading order).
+        #[arg(long, value_parser = parse_cell)]
+        start: Option<Cell>,
+        /// Write the plan as JSON to this file.
+        #[arg(long)]
+        json: Option<PathBuf>,
+        /// Write a picture of the plan to this file.
+        #[arg(long)]
+        svg: Option<PathBuf>,
+    },
     /// Benchmarks reproducing the papers' tables.
     Bench {
         #[command(subcommand)]
@@ -126,6 +143,25 @@ enum BenchCmd {
         /// Print one JSON object.
         #[arg(long)]
         json: bool,
+    },
+    /// Seed 000 Table 2: BA*, B-Theta*, B-OHA* and ours on random 50x30 and 30x50 maps.
+    Table2 {
+        #[arg(long, default_value_t = 500)]
+        runs: usize,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Share of blocked cells, percent.
+        #[arg(long, default_value_t = robovac::maps::TABLE2_MAP.density_pct)]
+        density: u32,
+        /// Largest obstacle side, cells.
+        #[arg(long, default_value_t = robovac::maps::TABLE2_MAP.max_side)]
+        max_side: u32,
+        /// Write the results as JSON to this file.
+        #[arg(long)]
+        json: Option<PathBuf>,
+        /// Write an SVG of every planner's plan on the first maps here.
+        #[arg(long)]
+        svg_dir: Option<PathBuf>,
     },
 }
 
@@ -174,6 +210,31 @@ fn run(cli: Cli) -> Result<(), String> {
             algo,
             json,
         } => cmd_scen(&scen, &map, algo.into(), json),
+        Cmd::Plan {
+            map,
+            planner,
+            start,
+            json,
+            svg,
+        } => cmd_plan(&map, &planner, start, json.as_deref(), svg.as_deref()),
+        Cmd::Bench {
+            which:
+                BenchCmd::Table2 {
+                    runs,
+                    seed,
+                    density,
+                    max_side,
+                    json,
+                    svg_dir,
+                },
+        } => cmd_table2(
+            runs,
+            seed,
+            density,
+            max_side,
+            json.as_deref(),
+            svg_dir.as_deref(),
+        ),
         Cmd::Bench {
             which:
                 BenchCmd::Table1 {
@@ -344,6 +405,233 @@ fn cmd_table1(runs: usize, seed: u64, density: u32, corner: u32, json: bool) -> 
                 115.78 / 120.94
             );
         }
+    }
+    Ok(())
+}
+
+fn write_file(path: &Path, text: &str) -> Result<(), String> {
+    std::fs::write(path, text).map_err(|e| format!("{}: cannot write: {e}", path.display()))
+}
+
+fn cmd_plan(
+    args: &MapArgs,
+    planner: &str,
+    start: Option<Cell>,
+    json: Option<&Path>,
+    svg: Option<&Path>,
+) -> Result<(), String> {
+    let kind = host_sim::plan::planner_by_name(planner)
+        .ok_or_else(|| format!("unknown planner {planner:?} (b-oha, ba, b-theta, b-oha-pc)"))?;
+    let map = args.load()?;
+    let p = host_sim::plan::plan(&map, kind, start)
+        .map_err(|e| format!("{}: {e}", args.map.display()))?;
+    let m = host_sim::plan::metrics_json(&p);
+    println!(
+        "planner {} on {} ({}x{} cells)",
+        kind.name(),
+        args.map.display(),
+        map.width,
+        map.height
+    );
+    if let Some(obj) = m.as_object() {
+        for (k, v) in obj {
+            println!("  {k:<24} {v}");
+        }
+    }
+    if let Some(f) = json {
+        write_file(f, &host_sim::plan::plan_json(&map, &p).to_string())?;
+    }
+    if let Some(f) = svg {
+        write_file(
+            f,
+            &host_sim::svg::plan_svg(&map, &p, &args.map.display().to_string()),
+        )?;
+    }
+    Ok(())
+}
+
+fn cmd_table2(
+    runs: usize,
+    seed: u64,
+    density: u32,
+    max_side: u32,
+    json: Option<&Path>,
+    svg_dir: Option<&Path>,
+) -> Result<(), String> {
+    use host_sim::bench::paper_table2;
+    if runs == 0 {
+        return Err("--runs must be at least 1".into());
+    }
+    if density > 60 || max_side == 0 {
+        return Err("--density must be at most 60 and --max-side at least 1".into());
+    }
+    if let Some(d) = svg_dir {
+        std::fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
+    }
+    let spec = robovac::maps::RandomMap {
+        density_pct: density,
+        max_side,
+        ..robovac::maps::TABLE2_MAP
+    };
+    let mut svg_err = None;
+    let tty = std::io::stderr().is_terminal();
+    let rows = host_sim::bench::table2(
+        runs,
+        seed,
+        spec,
+        |label, run, map, p| {
+            if let Some(d) = svg_dir {
+                if run < 3 {
+                    let f = d.join(format!("table2_{label}_{run}_{}.svg", p.kind.name()));
+                    if let Err(e) = write_file(
+                        &f,
+                        &host_sim::svg::plan_svg(map, p, &format!("Table 2 {label} map {run}")),
+                    ) {
+                        svg_err = Some(e);
+                    }
+                }
+            }
+        },
+        |done, total| {
+            if done % 10 == 0 || done == total {
+                let w = 40 * done / total;
+                if tty {
+                    eprint!(
+                        "\r[{}{}] {done}/{total} maps",
+                        "#".repeat(w),
+                        " ".repeat(40 - w)
+                    );
+                    if done == total {
+                        eprintln!();
+                    }
+                } else if done % (total / 4).max(1) == 0 || done == total {
+                    eprintln!(
+                        "[{}{}] {done}/{total} maps",
+                        "#".repeat(w),
+                        " ".repeat(40 - w)
+                    );
+                }
+                let _ = std::io::stderr().flush();
+            }
+        },
+    )?;
+    if let Some(e) = svg_err {
+        return Err(e);
+    }
+    println!("Seed 000 Table 2: {runs} random maps per size ({density}% blocked, rectangles up to {max_side} cells), seed {seed}");
+    let metrics = [
+        "coverage_path_length",
+        "segments",
+        "turns",
+        "backtrack_path_length",
+        "backtrack_points_total",
+        "time_us",
+        "coverage",
+        "repetition",
+        "total_path_length",
+        "rotation_deg",
+        "nodes_expanded",
+    ];
+    for (label, _, _) in host_sim::bench::TABLE2_SIZES {
+        let wide = label == "30x50";
+        println!(
+            "\n{label} ({})",
+            if wide {
+                "wide: 30 rows x 50 columns"
+            } else {
+                "tall: 50 rows x 30 columns"
+            }
+        );
+        print!("{:<24}", "metric");
+        for (l, k, _) in rows.iter().filter(|r| r.0 == label) {
+            let _ = l;
+            print!(" {:>10} {:>9}", k.name(), "paper");
+        }
+        println!();
+        for m in metrics {
+            print!("{m:<24}");
+            for (_, k, agg) in rows.iter().filter(|r| r.0 == label) {
+                let ours = agg.mean(m);
+                let paper = if m == "time_us" {
+                    paper_table2("time_s", *k, wide).map(|s| s * 1e6)
+                } else {
+                    paper_table2(m, *k, wide)
+                };
+                match paper {
+                    Some(pv) => print!(" {ours:>10.2} {pv:>9.2}"),
+                    None => print!(" {ours:>10.2} {:>9}", "-"),
+                }
+            }
+            println!();
+        }
+        print!("{:<24}", "min coverage");
+        for (_, _, agg) in rows.iter().filter(|r| r.0 == label) {
+            print!(" {:>10.4} {:>9}", agg.min_coverage, "");
+        }
+        println!();
+    }
+    // The paper's claims, as measured ratios against our BA*.
+    println!("\nratios against our BA* on the same maps (paper in brackets):");
+    for (label, _, _) in host_sim::bench::TABLE2_SIZES {
+        let get = |k: robovac::coverage::PlannerKind, m: &str| {
+            rows.iter()
+                .find(|r| r.0 == label && r.1 == k)
+                .map(|r| r.2.mean(m))
+                .unwrap_or(0.0)
+        };
+        use robovac::coverage::PlannerKind::*;
+        for (m, paper) in [
+            ("segments", "-19%"),
+            ("backtrack_points_total", "-81%"),
+            ("backtrack_path_length", "-10%"),
+            ("turns", if label == "30x50" { "-15%" } else { "" }),
+        ] {
+            let ba = get(BaStar, m);
+            let rel = |k| {
+                if ba > 0.0 {
+                    100.0 * (get(k, m) / ba - 1.0)
+                } else {
+                    0.0
+                }
+            };
+            println!(
+                "  {label} {m:<24} B-OHA* {:+6.1}% [{paper:>4}]   B-Theta* {:+6.1}%   ours {:+6.1}%",
+                rel(BOha),
+                rel(BTheta),
+                rel(BOhaPc)
+            );
+        }
+        let bo = get(BOha, "backtrack_path_length");
+        let ours = get(BOhaPc, "backtrack_path_length");
+        println!(
+            "  {label} ours vs B-OHA*: backtracking path x{:.3}, turns x{:.3}",
+            if bo > 0.0 { ours / bo } else { 0.0 },
+            get(BOhaPc, "turns") / get(BOha, "turns").max(1e-9)
+        );
+    }
+    if let Some(f) = json {
+        let mut obj = serde_json::Map::new();
+        obj.insert("runs".into(), json!(runs));
+        obj.insert("seed".into(), json!(seed));
+        obj.insert("density_pct".into(), json!(density));
+        obj.insert("max_side".into(), json!(max_side));
+        for (label, k, agg) in &rows {
+            let mut means = serde_json::Map::new();
+            for (m, _) in agg.sums.iter() {
+                means.insert((*m).to_string(), json!(agg.mean(m)));
+            }
+            let mut t = agg.times_us.clone();
+            means.insert(
+                "median_time_us".into(),
+                json!(host_sim::metrics::median(&mut t)),
+            );
+            means.insert("min_coverage".into(), json!(agg.min_coverage));
+            let entry = obj.entry(label.to_string()).or_insert_with(|| json!({}));
+            if let Some(e) = entry.as_object_mut() {
+                e.insert(k.name().into(), serde_json::Value::Object(means));
+            }
+        }
+        write_file(f, &serde_json::Value::Object(obj).to_string())?;
     }
     Ok(())
 }

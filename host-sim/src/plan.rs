@@ -1,0 +1,271 @@
+//! Complete-coverage plans on the host: the core planner driven to
+//! completion, its polyline, metrics, JSON and SVG.
+
+use std::time::Instant;
+
+use robovac::coverage::{Coverage, PlanStats, PlannerKind, Step, Waypoint};
+use robovac::metrics::{Metrics, MetricsRecorder, SegmentKind};
+use robovac::Cell;
+
+use crate::maps::MapData;
+use crate::state::{new_grid, HostGrid, HOST_CELLS, HOST_OPEN, HOST_WORDS};
+
+/// Backtracking-list capacity on the host.
+pub const HOST_LCAP: usize = HOST_CELLS;
+/// Transit path buffer on the host.
+pub const HOST_PCAP: usize = HOST_CELLS;
+/// The host coverage planner.
+pub type HostCoverage = Coverage<HOST_CELLS, HOST_WORDS, HOST_OPEN, HOST_LCAP, HOST_PCAP>;
+
+/// A host planner on the heap, without building it on the stack.
+pub fn new_planner(kind: PlannerKind) -> Box<HostCoverage> {
+    let b = Box::<HostCoverage>::new_zeroed();
+    // SAFETY: `Coverage` documents that all-zero bytes are a valid idle
+    // planner (integers, arrays of integers, `#[repr(u8)]` enums whose
+    // discriminant 0 is a variant, and the zero-valid `SearchState`).
+    let mut p = unsafe { b.assume_init() };
+    p.set_kind(kind);
+    p
+}
+
+/// Parses a planner name.
+pub fn planner_by_name(s: &str) -> Option<PlannerKind> {
+    ALL_PLANNERS.iter().copied().find(|k| k.name() == s)
+}
+
+/// Every planner, baselines first.
+pub const ALL_PLANNERS: [PlannerKind; 4] = [
+    PlannerKind::BaStar,
+    PlannerKind::BTheta,
+    PlannerKind::BOha,
+    PlannerKind::BOhaPc,
+];
+
+/// A segment of the output polyline: waypoints `from..=to`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Segment {
+    /// Cover or transit.
+    pub kind: SegmentKind,
+    /// Index of the first waypoint.
+    pub from: usize,
+    /// Index of the last waypoint.
+    pub to: usize,
+}
+
+/// A finished plan.
+#[derive(Clone, Debug)]
+pub struct Plan {
+    /// The planner.
+    pub kind: PlannerKind,
+    /// Start cell.
+    pub start: Cell,
+    /// Waypoints, collinear moves of one kind merged.
+    pub waypoints: Vec<Cell>,
+    /// Runs of one kind.
+    pub segments: Vec<Segment>,
+    /// Cells where local coverage ended (critical points).
+    pub critical_points: Vec<Cell>,
+    /// Backtracking points reached (ends of transits).
+    pub backtrack_points: Vec<Cell>,
+    /// Metrics (the core's single definition).
+    pub metrics: Metrics,
+    /// Planner counters.
+    pub stats: PlanStats,
+    /// Planning time, µs.
+    pub time_us: f64,
+    /// The largest number of nodes one `step` call expanded.
+    pub max_nodes_per_call: u64,
+}
+
+impl Plan {
+    /// coverage = covered / reachable.
+    pub fn coverage(&self) -> f64 {
+        ratio(self.metrics.covered_cells, self.metrics.reachable_cells)
+    }
+    /// repetition = repeated / reachable.
+    pub fn repetition(&self) -> f64 {
+        ratio(self.metrics.repeated_cells, self.metrics.reachable_cells)
+    }
+}
+
+fn ratio(a: u32, b: u32) -> f64 {
+    if b == 0 {
+        0.0
+    } else {
+        a as f64 / b as f64
+    }
+}
+
+/// Plans a complete coverage of `map` from `start` (default: the first free
+/// cell in reading order).
+pub fn plan(map: &MapData, kind: PlannerKind, start: Option<Cell>) -> Result<Plan, String> {
+    let mut grid = new_grid();
+    map.to_grid(&mut *grid).map_err(|e| e.to_string())?;
+    let start = match start {
+        Some(s) => s,
+        None => map.first_free().ok_or("the map has no free cell")?,
+    };
+    let mut planner = new_planner(kind);
+    plan_on(&mut grid, &mut planner, start, u32::MAX)
+}
+
+/// Plans on a prepared grid with a node budget per `step` call.
+pub fn plan_on(
+    grid: &mut HostGrid,
+    planner: &mut HostCoverage,
+    start: Cell,
+    budget: u32,
+) -> Result<Plan, String> {
+    let (sx, sy) = start.xy();
+    if !grid.contains(sx, sy) {
+        return Err(format!(
+            "start ({sx},{sy}) is off the {}x{} map",
+            grid.width(),
+            grid.height()
+        ));
+    }
+    if grid.is_blocked(sx, sy) {
+        return Err(format!("start ({sx},{sy}) is an obstacle"));
+    }
+    let mut rec: Box<MetricsRecorder<HOST_WORDS>> = Box::new(MetricsRecorder::new());
+    rec.start(&*grid, start);
+    let t0 = Instant::now();
+    planner
+        .start(&mut *grid, start)
+        .map_err(|e| e.to_string())?;
+    let mut steps: Vec<Waypoint> = Vec::new();
+    let mut max_nodes = 0u64;
+    loop {
+        let before = planner.stats().nodes_expanded;
+        let s = planner
+            .step(&mut *grid, budget)
+            .map_err(|e| e.to_string())?;
+        let searching = planner.stats().nodes_expanded;
+        max_nodes = max_nodes.max(searching - before);
+        match s {
+            Step::Move(w) => steps.push(w),
+            Step::Pending => max_nodes = max_nodes.max(budget as u64),
+            Step::Done => break,
+        }
+    }
+    let time_us = t0.elapsed().as_secs_f64() * 1e6;
+    let stats = planner.stats();
+    for w in &steps {
+        rec.push(w.to, w.kind, w.starts_segment);
+    }
+    rec.add_planner_counts(stats.backtrack_points_total, stats.nodes_expanded);
+    // Merge collinear moves of one kind into waypoints; group into segments
+    // (a new cover segment also starts where the planner marks one).
+    let mut waypoints = vec![start];
+    // Per waypoint: kind of the segment ending there, and whether a new
+    // cover segment starts with it.
+    let mut kinds: Vec<(SegmentKind, bool)> = vec![(SegmentKind::Cover, true)];
+    let mut critical_points = Vec::new();
+    let mut backtrack_points = Vec::new();
+    for (i, w) in steps.iter().enumerate() {
+        let (c, k) = (w.to, w.kind);
+        if w.starts_segment && i > 0 {
+            critical_points.push(*waypoints.last().unwrap_or(&start));
+        }
+        if k == SegmentKind::Transit
+            && steps
+                .get(i + 1)
+                .is_none_or(|s| s.kind != SegmentKind::Transit || s.starts_segment)
+        {
+            // the end of a transit: the backtracking point (or the cell
+            // before it, when the goal was uncovered)
+            let goal = steps
+                .get(i + 1)
+                .filter(|s| s.starts_segment)
+                .map_or(c, |s| s.to);
+            backtrack_points.push(goal);
+        } else if w.starts_segment
+            && i > 0
+            && steps
+                .get(i.wrapping_sub(1))
+                .is_some_and(|s| s.kind == SegmentKind::Cover)
+        {
+            backtrack_points.push(c); // a neighbouring point: no transit
+        }
+        let n = waypoints.len();
+        let collinear = !w.starts_segment && n >= 2 && kinds[n - 1].0 == k && {
+            let (a, b) = (waypoints[n - 2], waypoints[n - 1]);
+            let (ux, uy) = (b.x as i64 - a.x as i64, b.y as i64 - a.y as i64);
+            let (vx, vy) = (c.x as i64 - b.x as i64, c.y as i64 - b.y as i64);
+            ux * vy - uy * vx == 0 && ux * vx + uy * vy > 0
+        };
+        if collinear {
+            waypoints[n - 1] = c;
+        } else {
+            waypoints.push(c);
+            kinds.push((k, w.starts_segment));
+        }
+    }
+    let mut segments: Vec<Segment> = Vec::new();
+    for i in 1..waypoints.len() {
+        let (k, new) = kinds[i];
+        match segments.last_mut() {
+            Some(s) if s.kind == k && s.to == i - 1 && !(new && k == SegmentKind::Cover) => {
+                s.to = i
+            }
+            _ => segments.push(Segment {
+                kind: k,
+                from: i - 1,
+                to: i,
+            }),
+        }
+    }
+    Ok(Plan {
+        kind: planner.kind(),
+        start,
+        waypoints,
+        segments,
+        critical_points,
+        backtrack_points,
+        metrics: rec.metrics(),
+        stats,
+        time_us,
+        max_nodes_per_call: max_nodes,
+    })
+}
+
+/// Metrics as JSON (lengths in cells, rotation in degrees).
+pub fn metrics_json(p: &Plan) -> serde_json::Value {
+    let m = &p.metrics;
+    let cells = |c: u64| c as f64 / robovac::cost::COST_PER_CELL as f64;
+    serde_json::json!({
+        "reachable_cells": m.reachable_cells,
+        "covered_cells": m.covered_cells,
+        "coverage": p.coverage(),
+        "repeated_cells": m.repeated_cells,
+        "repetition": p.repetition(),
+        "coverage_path_length": cells(m.coverage_path_cost),
+        "backtrack_path_length": cells(m.backtrack_path_cost),
+        "total_path_length": cells(m.coverage_path_cost + m.backtrack_path_cost),
+        "turns": m.turns,
+        "rotation_deg": m.rotation_urad as f64 * 1e-6 * 180.0 / std::f64::consts::PI,
+        "segments": m.segments,
+        "backtrack_points_total": m.backtrack_points_total,
+        "nodes_expanded": m.nodes_expanded,
+        "time_us": p.time_us,
+    })
+}
+
+/// The plan as the JSON document of `host-sim plan --json`.
+pub fn plan_json(map: &MapData, p: &Plan) -> serde_json::Value {
+    let rows: Vec<String> = map.to_ascii().lines().map(str::to_string).collect();
+    serde_json::json!({
+        "planner": p.kind.name(),
+        "map": {"width": map.width, "height": map.height, "cell_m": map.cell_m},
+        "grid": rows,
+        "start": [p.start.x, p.start.y],
+        "waypoints": p.waypoints.iter().map(|c| [c.x, c.y]).collect::<Vec<_>>(),
+        "segments": p.segments.iter().map(|s| serde_json::json!({
+            "kind": match s.kind { SegmentKind::Cover => "cover", SegmentKind::Transit => "transit" },
+            "from": s.from, "to": s.to,
+        })).collect::<Vec<_>>(),
+        "critical_points": p.critical_points.iter().map(|c| [c.x, c.y]).collect::<Vec<_>>(),
+        "backtrack_points": p.backtrack_points.iter().map(|c| [c.x, c.y]).collect::<Vec<_>>(),
+        "metrics": metrics_json(p),
+    })
+}

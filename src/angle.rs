@@ -1,0 +1,70 @@
+//! Integer angles: CORDIC `atan2` in milliradians.
+//!
+//! Used by the coverage metrics (heading changes at waypoints) and later by
+//! odometry and DWA. No floating point; accuracy better than 0.5 mrad over
+//! the whole circle (tested against f64).
+
+/// π in milliradians, rounded.
+pub const PI_MRAD: i32 = 3142;
+
+/// atan(2^-i) in micro-radians for the CORDIC rotations.
+const ATAN_URAD: [i64; 20] = [
+    785_398, 463_648, 244_979, 124_355, 62_419, 31_240, 15_624, 7_812, 3_906, 1_953, 977, 488, 244,
+    122, 61, 31, 15, 8, 4, 2,
+];
+
+/// atan2(y, x) in milliradians, in [-3142, 3142]; atan2(0, 0) = 0.
+pub fn atan2_mrad(y: i32, x: i32) -> i32 {
+    let u = atan2_urad(y as i64, x as i64);
+    (u.div_euclid(1000) + i64::from(u.rem_euclid(1000) >= 500)) as i32
+}
+
+/// atan2(y, x) in micro-radians, in [-π, π] (±3 141 593).
+pub fn atan2_urad(y: i64, x: i64) -> i64 {
+    if x == 0 && y == 0 {
+        return 0;
+    }
+    // Rotate into the right half-plane, remembering the offset.
+    let (mut x, mut y, base) = if x < 0 {
+        if y >= 0 {
+            (y, -x, 1_570_796)
+        } else {
+            (-y, x, -1_570_796)
+        }
+    } else {
+        (x, y, 0)
+    };
+    // Scale up for precision; inputs up to 2^31 stay below 2^61.
+    let shift = 30 - (64 - (x.abs().max(y.abs()) as u64).leading_zeros() as i64).min(30);
+    x <<= shift;
+    y <<= shift;
+    let mut z = 0i64;
+    for (i, a) in ATAN_URAD.iter().enumerate() {
+        let (xn, yn) = if y > 0 {
+            z += a;
+            (x + (y >> i), y - (x >> i))
+        } else {
+            z -= a;
+            (x - (y >> i), y + (x >> i))
+        };
+        x = xn;
+        y = yn;
+    }
+    let r = base + z;
+    if r > 3_141_593 {
+        r - 6_283_185
+    } else if r < -3_141_593 {
+        r + 6_283_185
+    } else {
+        r
+    }
+}
+
+/// Absolute difference of two headings (mrad), wrapped to [0, π].
+pub fn heading_change_mrad(a: i32, b: i32) -> i32 {
+    let mut d = (b - a).rem_euclid(2 * PI_MRAD);
+    if d > PI_MRAD {
+        d = 2 * PI_MRAD - d;
+    }
+    d
+}

@@ -1,0 +1,706 @@
+//! The complete-coverage planner's shared machinery (seed 000 Algorithm 2
+//! and its baselines): the online step loop, the bounded backtracking list,
+//! transit search and following, and the completeness fallback.
+//!
+//! The planner is **online**: [`Coverage::step`] returns the next waypoint
+//! to drive to, given the grid as known now, so the firmware calls it from
+//! its control loop. A transit search is spread over calls with a node
+//! budget per call ([`Step::Pending`] until it finishes); the batch planner
+//! of the CLI is the same code driven to completion ([`Coverage::run`]).
+//!
+//! The planner marks the grid's `Covered` layer as the robot passes (the
+//! cells of each segment's supercover line, the definition of
+//! [`crate::metrics`]), and reads obstacles afresh at every step: a cell
+//! that turns into an obstacle, or one discovered later, is handled without
+//! a restart (a blocked transit segment is re-planned; an unreachable goal
+//! is abandoned).
+//!
+//! What differs between the planners — move priority, what enters the
+//! backtracking list, how it is pruned, which goals a transit aims at and
+//! with which search — lives in one file per planner: [`crate::b_oha`],
+//! [`crate::ba_star`], [`crate::b_theta`], [`crate::b_oha_pc`].
+//!
+//! **Entering a backtracking point is cleaning (our rule).** When the goal
+//! of a transit is an uncovered cell (B-OHA*'s points always are), the
+//! transit ends at the cell before it and the step into the goal is the
+//! first cover move of the new segment. BA*'s points are covered cells next
+//! to uncovered ones, and BA* then steps into the uncovered area as a cover
+//! move; the rule gives every planner the same convention, so "backtracking
+//! path length" means the same thing for all of them.
+//!
+//! **Segments.** A cover segment starts at the first move and after every
+//! critical point; [`Waypoint::starts_segment`] marks it, so the paper's
+//! "segments ≈ backtracks + 1" holds even when a backtracking point is a
+//! neighbour and no transit is needed.
+//!
+//! **Bounded list and completeness (our policy).** The backtracking list has
+//! a fixed capacity `LCAP`. A point that does not fit is dropped and the
+//! overflow counted. Whenever the list runs empty, the planner **rescans**
+//! the grid for uncovered free cells that are corners of their uncovered
+//! region (the cells seed 000's pruning rule keeps) and refills the list.
+//! Every uncovered region has such a cell (its top-left-most cell has no
+//! uncovered neighbour to the north or west), so no reachable area is ever
+//! silently missed, whatever the capacity and whatever the planner's own
+//! list rule. Goals that a search proves unreachable are abandoned (an
+//! enclosed pocket), so the run ends. The rescan costs O(cells) once per
+//! emptied list.
+
+use crate::bits::Bits;
+use crate::grid::{Cell, Grid, Layer};
+use crate::los::{line_of_sight, supercover};
+use crate::metrics::SegmentKind;
+use crate::prune::prune;
+use crate::search::{Algo, Progress, SearchError, SearchState, MAX_GOALS};
+use crate::{b_oha, b_oha_pc, b_theta, ba_star};
+
+/// The coverage planners.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[repr(u8)]
+pub enum PlannerKind {
+    /// B-OHA*, seed 000 (ALGORITHMS.md §1).
+    BOha = 0,
+    /// BA* (Viet et al. 2013), the paper's first baseline.
+    BaStar,
+    /// B-Theta* (Choi et al. 2017), the paper's second baseline.
+    BTheta,
+    /// B-OHA*-PC: our variant of B-OHA* (see [`crate::b_oha_pc`]).
+    BOhaPc,
+}
+
+impl PlannerKind {
+    /// The name used on the command line.
+    pub const fn name(self) -> &'static str {
+        match self {
+            PlannerKind::BOha => "b-oha",
+            PlannerKind::BaStar => "ba",
+            PlannerKind::BTheta => "b-theta",
+            PlannerKind::BOhaPc => "b-oha-pc",
+        }
+    }
+}
+
+/// A waypoint to drive straight to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Waypoint {
+    /// The cell to drive to.
+    pub to: Cell,
+    /// Cleaning (local coverage) or transit to a backtracking point.
+    pub kind: SegmentKind,
+    /// The first cover move after a critical point (or of the run).
+    pub starts_segment: bool,
+}
+
+/// The next thing for the robot to do.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Step {
+    /// Drive straight to a waypoint.
+    Move(Waypoint),
+    /// A transit search used up this call's node budget; call again.
+    Pending,
+    /// Every reachable cell is covered.
+    Done,
+}
+
+/// Why planning stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum CoverageError {
+    /// The start is off the map or an obstacle.
+    BadStart,
+    /// `step` before `start`.
+    NotStarted,
+    /// A transit search failed for capacity (open list, map size).
+    Search(SearchError),
+    /// A transit path is longer than the path buffer `PCAP`.
+    PathTooLong,
+}
+
+impl CoverageError {
+    /// A short human-readable description.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            CoverageError::BadStart => "start is off the map or blocked",
+            CoverageError::NotStarted => "planner not started",
+            CoverageError::Search(e) => e.as_str(),
+            CoverageError::PathTooLong => "transit path exceeds the path buffer",
+        }
+    }
+}
+
+impl core::fmt::Display for CoverageError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// Counters the planner keeps (the metrics' planner-side fields).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct PlanStats {
+    /// Points ever inserted into the backtracking list.
+    pub backtrack_points_total: u32,
+    /// Nodes expanded by transit searches.
+    pub nodes_expanded: u64,
+    /// Critical points reached (ends of local coverage).
+    pub critical_points: u32,
+    /// Transit searches run.
+    pub searches: u32,
+    /// Rescans that found uncovered cells the list had lost.
+    pub rescans_with_points: u32,
+    /// Points dropped because the list was full.
+    pub list_overflows: u32,
+    /// Goals abandoned as unreachable.
+    pub abandoned_goals: u32,
+    /// Transit segments re-planned because the grid changed under them.
+    pub replans: u32,
+}
+
+/// A fixed-capacity backtracking list (no duplicates: membership is kept
+/// in a bitset by the planner).
+pub struct BacktrackList<const LCAP: usize> {
+    items: [Cell; LCAP],
+    len: usize,
+}
+
+impl<const LCAP: usize> BacktrackList<LCAP> {
+    const fn new() -> Self {
+        Self {
+            items: [Cell::new(0, 0); LCAP],
+            len: 0,
+        }
+    }
+
+    /// The points, in insertion order (with removals swapped in).
+    pub fn as_slice(&self) -> &[Cell] {
+        self.items.get(..self.len).unwrap_or(&[])
+    }
+
+    /// Number of points.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// True when empty.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+enum Phase {
+    Idle = 0,
+    Local,
+    Critical,
+    Searching,
+    Following,
+    Done,
+}
+
+/// The coverage planner. `N`, `NW`, `OPEN` size its search state (see
+/// [`SearchState`]), `LCAP` the backtracking list, `PCAP` the transit path
+/// buffer. All memory is inline; nothing is allocated.
+///
+/// Like [`SearchState`], every field is an integer, an array of integers or
+/// a `#[repr(u8)]` enum whose discriminant 0 is a variant, so all-zero bytes
+/// are a valid idle B-OHA* planner (a host may allocate one zeroed on the
+/// heap and call [`Coverage::set_kind`]).
+pub struct Coverage<
+    const N: usize,
+    const NW: usize,
+    const OPEN: usize,
+    const LCAP: usize,
+    const PCAP: usize,
+> {
+    kind: PlannerKind,
+    pub(crate) search: SearchState<N, NW, OPEN>,
+    pub(crate) list: BacktrackList<LCAP>,
+    pub(crate) in_list: Bits<NW>,
+    abandoned: Bits<NW>,
+    path: [Cell; PCAP],
+    path_len: usize,
+    path_pos: usize,
+    /// Index of the first cover waypoint of the followed path.
+    transit_end: usize,
+    new_segment: bool,
+    goals: [Cell; MAX_GOALS],
+    goal_count: usize,
+    pub(crate) cur: Cell,
+    pub(crate) priority: [(i32, i32); 4],
+    phase: Phase,
+    stats: PlanStats,
+}
+
+/// North, south, east, west as (dx, dy) with y growing downward.
+pub const N_: (i32, i32) = (0, -1);
+/// South.
+pub const S_: (i32, i32) = (0, 1);
+/// East.
+pub const E_: (i32, i32) = (1, 0);
+/// West.
+pub const W_: (i32, i32) = (-1, 0);
+
+impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, const PCAP: usize>
+    Coverage<N, NW, OPEN, LCAP, PCAP>
+{
+    /// A planner of the given kind (usable in a `static`).
+    pub const fn new(kind: PlannerKind) -> Self {
+        Self {
+            kind,
+            search: SearchState::new(),
+            list: BacktrackList::new(),
+            in_list: Bits::new(),
+            abandoned: Bits::new(),
+            path: [Cell::new(0, 0); PCAP],
+            path_len: 0,
+            path_pos: 0,
+            transit_end: 0,
+            new_segment: false,
+            goals: [Cell::new(0, 0); MAX_GOALS],
+            goal_count: 0,
+            cur: Cell::new(0, 0),
+            priority: [N_, S_, E_, W_],
+            phase: Phase::Idle,
+            stats: PlanStats {
+                backtrack_points_total: 0,
+                nodes_expanded: 0,
+                critical_points: 0,
+                searches: 0,
+                rescans_with_points: 0,
+                list_overflows: 0,
+                abandoned_goals: 0,
+                replans: 0,
+            },
+        }
+    }
+
+    /// Changes the planner kind (takes effect at the next `start`).
+    pub fn set_kind(&mut self, kind: PlannerKind) {
+        self.kind = kind;
+        self.phase = Phase::Idle;
+    }
+
+    /// Which planner this is.
+    pub fn kind(&self) -> PlannerKind {
+        self.kind
+    }
+
+    /// Counters so far.
+    pub fn stats(&self) -> PlanStats {
+        self.stats
+    }
+
+    /// The current backtracking list.
+    pub fn backtrack_list(&self) -> &[Cell] {
+        self.list.as_slice()
+    }
+
+    /// The robot's current cell as the planner sees it.
+    pub fn position(&self) -> Cell {
+        self.cur
+    }
+
+    /// Starts a run at `start`: clears the covered layer, marks the start
+    /// covered and sets the move priority.
+    pub fn start<const GW: usize>(
+        &mut self,
+        grid: &mut Grid<GW>,
+        start: Cell,
+    ) -> Result<(), CoverageError> {
+        let (x, y) = start.xy();
+        if grid.cells() > N || grid.is_blocked(x, y) {
+            return Err(CoverageError::BadStart);
+        }
+        grid.clear_layer(Layer::Covered);
+        self.list.len = 0;
+        self.in_list.clear_all();
+        self.abandoned.clear_all();
+        self.path_len = 0;
+        self.path_pos = 0;
+        self.goal_count = 0;
+        self.stats = PlanStats::default();
+        self.cur = start;
+        self.priority = match self.kind {
+            PlannerKind::BOha | PlannerKind::BOhaPc => b_oha::priority(grid),
+            PlannerKind::BaStar | PlannerKind::BTheta => ba_star::PRIORITY,
+        };
+        let _ = grid.set(Layer::Covered, x, y, true);
+        self.on_arrive(grid);
+        self.new_segment = true;
+        self.phase = Phase::Local;
+        Ok(())
+    }
+
+    /// Runs to completion, calling `emit` for every waypoint (the batch
+    /// planner of the CLI and the tests).
+    pub fn run<const GW: usize>(
+        &mut self,
+        grid: &mut Grid<GW>,
+        start: Cell,
+        mut emit: impl FnMut(Waypoint),
+    ) -> Result<PlanStats, CoverageError> {
+        self.start(grid, start)?;
+        loop {
+            match self.step(grid, u32::MAX)? {
+                Step::Done => return Ok(self.stats),
+                Step::Move(w) => emit(w),
+                Step::Pending => {}
+            }
+        }
+    }
+
+    /// The next waypoint. A transit search expands at most `budget` nodes
+    /// in this call; other work per call is one move, or at a critical point
+    /// one pass over the list (and, when it runs empty, one over the grid).
+    pub fn step<const GW: usize>(
+        &mut self,
+        grid: &mut Grid<GW>,
+        budget: u32,
+    ) -> Result<Step, CoverageError> {
+        loop {
+            match self.phase {
+                Phase::Idle => return Err(CoverageError::NotStarted),
+                Phase::Done => return Ok(Step::Done),
+                Phase::Local => {
+                    if let Some(next) = self.next_local_move(grid) {
+                        self.cover_segment(grid, next);
+                        self.cur = next;
+                        self.on_arrive(grid);
+                        return Ok(self.emit(next, SegmentKind::Cover));
+                    }
+                    self.new_segment = true;
+                    self.phase = Phase::Critical;
+                    self.stats.critical_points += 1;
+                    match self.kind {
+                        PlannerKind::BOha | PlannerKind::BOhaPc => b_oha::prune_list(self, grid),
+                        PlannerKind::BaStar | PlannerKind::BTheta => {
+                            ba_star::rebuild_list(self, grid)
+                        }
+                    }
+                }
+                Phase::Critical => {
+                    self.drop_stale(grid);
+                    if self.list.is_empty() {
+                        self.rescan(grid);
+                    }
+                    if self.list.is_empty() {
+                        self.phase = Phase::Done;
+                        return Ok(Step::Done);
+                    }
+                    let algo = self.choose_goals(grid);
+                    let goals = self.goals.get(..self.goal_count).unwrap_or(&[]);
+                    self.search
+                        .begin(grid, self.cur, goals, algo)
+                        .map_err(CoverageError::Search)?;
+                    self.stats.searches += 1;
+                    self.phase = Phase::Searching;
+                }
+                Phase::Searching => match self.search.resume(grid, budget) {
+                    Ok(Progress::Pending { .. }) => return Ok(Step::Pending),
+                    Ok(Progress::Found(st)) => {
+                        self.stats.nodes_expanded += st.nodes_expanded as u64;
+                        let n = self
+                            .search
+                            .write_path(&mut self.path)
+                            .map_err(|_| CoverageError::PathTooLong)?;
+                        self.split_path(grid, n);
+                        self.path_pos = 1;
+                        self.phase = Phase::Following;
+                    }
+                    Err(SearchError::NoPath) => {
+                        self.stats.nodes_expanded += self.search.nodes_expanded() as u64;
+                        for k in 0..self.goal_count {
+                            if let Some(&g) = self.goals.get(k) {
+                                self.abandon(grid, g);
+                            }
+                        }
+                        self.phase = Phase::Critical;
+                    }
+                    Err(e) => return Err(CoverageError::Search(e)),
+                },
+                Phase::Following => {
+                    let Some(&next) = self
+                        .path
+                        .get(self.path_pos)
+                        .filter(|_| self.path_pos < self.path_len)
+                    else {
+                        self.phase = Phase::Local;
+                        self.on_arrive(grid);
+                        continue;
+                    };
+                    if !line_of_sight(grid, self.cur, next) {
+                        // The grid changed under the planned path: re-plan.
+                        self.stats.replans += 1;
+                        self.phase = Phase::Critical;
+                        continue;
+                    }
+                    self.cover_segment(grid, next);
+                    self.cur = next;
+                    let kind = if self.path_pos < self.transit_end {
+                        SegmentKind::Transit
+                    } else {
+                        SegmentKind::Cover
+                    };
+                    self.path_pos += 1;
+                    return Ok(self.emit(next, kind));
+                }
+            }
+        }
+    }
+
+    /// Makes the waypoint for a move, marking the first cover move of a
+    /// segment.
+    fn emit(&mut self, to: Cell, kind: SegmentKind) -> Step {
+        let starts_segment = kind == SegmentKind::Cover && self.new_segment;
+        if starts_segment {
+            self.new_segment = false;
+        }
+        Step::Move(Waypoint {
+            to,
+            kind,
+            starts_segment,
+        })
+    }
+
+    /// Prepares the found path (`n` cells in `self.path`) for following:
+    /// when the goal is uncovered, the transit ends at the cell before it
+    /// and the last step is a cover move; the transit part is pruned
+    /// (except for B-Theta*, whose any-angle path is followed as found).
+    fn split_path<const GW: usize>(&mut self, grid: &Grid<GW>, n: usize) {
+        let goal_uncovered = n >= 2
+            && self
+                .path
+                .get(n - 1)
+                .is_some_and(|c| !grid.get(Layer::Covered, c.x as i32, c.y as i32));
+        let t = if goal_uncovered { n - 1 } else { n };
+        let m = if self.kind != PlannerKind::BTheta {
+            prune(grid, self.path.get_mut(..t).unwrap_or(&mut []))
+        } else {
+            t
+        };
+        if m < t {
+            self.path.copy_within(t..n, m);
+        }
+        // path[1..m] are transit waypoints, path[m..] cover moves.
+        self.transit_end = m;
+        self.path_len = m + (n - t);
+    }
+
+    /// The highest-priority 4-neighbour that is free and uncovered.
+    fn next_local_move<const GW: usize>(&self, grid: &Grid<GW>) -> Option<Cell> {
+        let (x, y) = self.cur.xy();
+        self.priority.iter().find_map(|&(dx, dy)| {
+            let (nx, ny) = (x + dx, y + dy);
+            if uncovered(grid, nx, ny) {
+                Cell::from_xy(nx, ny)
+            } else {
+                None
+            }
+        })
+    }
+
+    /// Marks the cells of the segment cur → to covered, and takes them off
+    /// the list.
+    fn cover_segment<const GW: usize>(&mut self, grid: &mut Grid<GW>, to: Cell) {
+        let w = grid.width() as usize;
+        supercover(self.cur.xy(), to.xy(), |x, y| {
+            if grid.is_free(x, y) {
+                let _ = grid.set(Layer::Covered, x, y, true);
+                let i = y as usize * w + x as usize;
+                if self.in_list.get(i) {
+                    self.in_list.put(i, false);
+                    self.remove_from_list(Cell::new(x as u16, y as u16));
+                }
+            }
+            true
+        });
+    }
+
+    fn on_arrive<const GW: usize>(&mut self, grid: &Grid<GW>) {
+        if matches!(self.kind, PlannerKind::BOha | PlannerKind::BOhaPc) {
+            b_oha::push_neighbours(self, grid);
+        }
+    }
+
+    /// Inserts a point (no duplicates, never an abandoned one). Returns
+    /// false when the list is full (the point is dropped and counted).
+    pub(crate) fn push_point<const GW: usize>(&mut self, grid: &Grid<GW>, c: Cell) -> bool {
+        let Some(i) = grid.index(c.x as i32, c.y as i32) else {
+            return false;
+        };
+        if self.in_list.get(i) || self.abandoned.get(i) {
+            return true;
+        }
+        let Some(slot) = self.list.items.get_mut(self.list.len) else {
+            self.stats.list_overflows += 1;
+            return false;
+        };
+        *slot = c;
+        self.list.len += 1;
+        self.in_list.put(i, true);
+        self.stats.backtrack_points_total += 1;
+        true
+    }
+
+    fn remove_from_list(&mut self, c: Cell) {
+        if let Some(k) = self.list.as_slice().iter().position(|&p| p == c) {
+            self.list.len -= 1;
+            let last = self.list.items.get(self.list.len).copied().unwrap_or(c);
+            if let Some(slot) = self.list.items.get_mut(k) {
+                *slot = last;
+            }
+        }
+    }
+
+    /// Keeps only the points for which `keep` is true.
+    pub(crate) fn retain<const GW: usize>(
+        &mut self,
+        grid: &Grid<GW>,
+        mut keep: impl FnMut(&Grid<GW>, Cell) -> bool,
+    ) {
+        let mut k = 0;
+        while k < self.list.len {
+            let Some(&c) = self.list.items.get(k) else {
+                break;
+            };
+            if keep(grid, c) {
+                k += 1;
+            } else {
+                if let Some(i) = grid.index(c.x as i32, c.y as i32) {
+                    self.in_list.put(i, false);
+                }
+                self.list.len -= 1;
+                let last = self.list.items.get(self.list.len).copied().unwrap_or(c);
+                if let Some(slot) = self.list.items.get_mut(k) {
+                    *slot = last;
+                }
+            }
+        }
+    }
+
+    /// Drops points that became obstacles or are no longer worth visiting
+    /// under the planner's own rule.
+    fn drop_stale<const GW: usize>(&mut self, grid: &Grid<GW>) {
+        let kind = self.kind;
+        self.retain(grid, |g, c| {
+            let (x, y) = c.xy();
+            !g.is_blocked(x, y)
+                && match kind {
+                    // B-OHA* points are uncovered cells.
+                    PlannerKind::BOha | PlannerKind::BOhaPc => !g.get(Layer::Covered, x, y),
+                    // BA* points are covered cells with uncovered neighbours,
+                    // or (fallback) uncovered cells.
+                    PlannerKind::BaStar | PlannerKind::BTheta => {
+                        !g.get(Layer::Covered, x, y) || ba_star::b(g, x, y) > 0
+                    }
+                }
+        });
+    }
+
+    fn abandon<const GW: usize>(&mut self, grid: &Grid<GW>, c: Cell) {
+        if let Some(i) = grid.index(c.x as i32, c.y as i32) {
+            if !self.abandoned.get(i) {
+                self.abandoned.put(i, true);
+                self.stats.abandoned_goals += 1;
+            }
+        }
+        self.retain(grid, |_, p| p != c);
+    }
+
+    /// The completeness fallback: refills the list with the uncovered
+    /// corner cells of every uncovered region (see the module docs).
+    fn rescan<const GW: usize>(&mut self, grid: &Grid<GW>) {
+        let (w, h) = (grid.width() as i32, grid.height() as i32);
+        let mut found = false;
+        for y in 0..h {
+            for x in 0..w {
+                if !uncovered(grid, x, y) || !b_oha::is_corner(grid, x, y) {
+                    continue;
+                }
+                let Some(i) = grid.index(x, y) else { continue };
+                if self.abandoned.get(i) {
+                    continue;
+                }
+                found = true;
+                if !self.push_point(grid, Cell::new(x as u16, y as u16)) {
+                    if found {
+                        self.stats.rescans_with_points += 1;
+                    }
+                    return; // full: the next rescan finds the rest
+                }
+            }
+        }
+        if found {
+            self.stats.rescans_with_points += 1;
+        }
+    }
+
+    /// Fills `self.goals` for the next transit and returns the search.
+    fn choose_goals<const GW: usize>(&mut self, grid: &Grid<GW>) -> Algo {
+        let (k, algo) = match self.kind {
+            PlannerKind::BOha => b_oha::TRANSIT,
+            PlannerKind::BOhaPc => return b_oha_pc::choose_goals(self, grid),
+            PlannerKind::BaStar => ba_star::TRANSIT,
+            PlannerKind::BTheta => b_theta::TRANSIT,
+        };
+        self.goal_count = nearest_k(self.list.as_slice(), self.cur, &mut self.goals, k);
+        algo
+    }
+
+    /// Sets the goals of the next transit (for the planner files).
+    pub(crate) fn set_goals(&mut self, goals: &[Cell]) {
+        let n = goals.len().min(MAX_GOALS);
+        for (slot, g) in self.goals.iter_mut().zip(goals.iter().take(n)) {
+            *slot = *g;
+        }
+        self.goal_count = n;
+    }
+}
+
+/// Copies into `out` the `k` points nearest to `from` (squared Euclidean
+/// distance; ties keep list order), nearest first. Returns how many.
+pub fn nearest_k(points: &[Cell], from: Cell, out: &mut [Cell], k: usize) -> usize {
+    let k = k.min(out.len());
+    let d2 = |c: &Cell| {
+        let (dx, dy) = (c.x as i64 - from.x as i64, c.y as i64 - from.y as i64);
+        dx * dx + dy * dy
+    };
+    let mut n = 0usize;
+    for p in points {
+        let dp = d2(p);
+        // insertion into the sorted prefix out[..n]
+        let mut pos = n;
+        while pos > 0 && out.get(pos - 1).is_some_and(|q| d2(q) > dp) {
+            pos -= 1;
+        }
+        if pos >= k {
+            continue;
+        }
+        let end = if n < k { n } else { k - 1 };
+        let mut j = end;
+        while j > pos {
+            if let Some(&prev) = out.get(j - 1) {
+                if let Some(slot) = out.get_mut(j) {
+                    *slot = prev;
+                }
+            }
+            j -= 1;
+        }
+        if let Some(slot) = out.get_mut(pos) {
+            *slot = *p;
+        }
+        if n < k {
+            n += 1;
+        }
+    }
+    n
+}
+
+/// True when (x, y) is on the map, free and not yet covered.
+#[inline]
+pub fn uncovered<const GW: usize>(grid: &Grid<GW>, x: i32, y: i32) -> bool {
+    grid.is_free(x, y) && !grid.get(Layer::Covered, x, y)
+}
