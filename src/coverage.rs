@@ -390,7 +390,7 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
                         self.phase = Phase::Done;
                         return Ok(Step::Done);
                     }
-                    let algo = self.choose_goals(grid);
+                    let algo = self.choose_goals();
                     let goals = self.goals.get(..self.goal_count).unwrap_or(&[]);
                     self.search
                         .begin(grid, self.cur, goals, algo)
@@ -489,8 +489,12 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
         self.path_len = m + (n - t);
     }
 
-    /// The highest-priority 4-neighbour that is free and uncovered.
+    /// The highest-priority 4-neighbour that is free and uncovered (our
+    /// variant: orphans first, see [`crate::b_oha_pc`]).
     fn next_local_move<const GW: usize>(&self, grid: &Grid<GW>) -> Option<Cell> {
+        if self.kind == PlannerKind::BOhaPc {
+            return b_oha_pc::next_move(grid, self.cur, &self.priority);
+        }
         let (x, y) = self.cur.xy();
         self.priority.iter().find_map(|&(dx, dy)| {
             let (nx, ny) = (x + dx, y + dy);
@@ -639,24 +643,15 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
     }
 
     /// Fills `self.goals` for the next transit and returns the search.
-    fn choose_goals<const GW: usize>(&mut self, grid: &Grid<GW>) -> Algo {
+    fn choose_goals(&mut self) -> Algo {
         let (k, algo) = match self.kind {
             PlannerKind::BOha => b_oha::TRANSIT,
-            PlannerKind::BOhaPc => return b_oha_pc::choose_goals(self, grid),
+            PlannerKind::BOhaPc => b_oha_pc::TRANSIT,
             PlannerKind::BaStar => ba_star::TRANSIT,
             PlannerKind::BTheta => b_theta::TRANSIT,
         };
         self.goal_count = nearest_k(self.list.as_slice(), self.cur, &mut self.goals, k);
         algo
-    }
-
-    /// Sets the goals of the next transit (for the planner files).
-    pub(crate) fn set_goals(&mut self, goals: &[Cell]) {
-        let n = goals.len().min(MAX_GOALS);
-        for (slot, g) in self.goals.iter_mut().zip(goals.iter().take(n)) {
-            *slot = *g;
-        }
-        self.goal_count = n;
     }
 }
 
