@@ -24,6 +24,7 @@ pub fn atan2_urad(y: i64, x: i64) -> i64 {
     if x == 0 && y == 0 {
         return 0;
     }
+    let upper = y >= 0;
     // Rotate into the right half-plane, remembering the offset.
     let (mut x, mut y, base) = if x < 0 {
         if y >= 0 {
@@ -50,13 +51,13 @@ pub fn atan2_urad(y: i64, x: i64) -> i64 {
         x = xn;
         y = yn;
     }
+    // The result has the sign of y; CORDIC's last few µrad of error must
+    // not carry it across ±π (a reversal is π, not −π).
     let r = base + z;
-    if r > 3_141_593 {
-        r - 6_283_185
-    } else if r < -3_141_593 {
-        r + 6_283_185
+    if upper {
+        r.clamp(0, 3_141_593)
     } else {
-        r
+        r.clamp(-3_141_593, 0)
     }
 }
 

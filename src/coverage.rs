@@ -232,6 +232,7 @@ pub struct Coverage<
     pub(crate) priority: [(i32, i32); 4],
     phase: Phase,
     stats: PlanStats,
+    last_step_nodes: u32,
 }
 
 /// North, south, east, west as (dx, dy) with y growing downward.
@@ -274,6 +275,7 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
                 abandoned_goals: 0,
                 replans: 0,
             },
+            last_step_nodes: 0,
         }
     }
 
@@ -286,6 +288,11 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
     /// Which planner this is.
     pub fn kind(&self) -> PlannerKind {
         self.kind
+    }
+
+    /// Nodes the last `step` call expanded (at most its budget).
+    pub fn last_step_nodes(&self) -> u32 {
+        self.last_step_nodes
     }
 
     /// Counters so far.
@@ -360,6 +367,10 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
         grid: &mut Grid<GW>,
         budget: u32,
     ) -> Result<Step, CoverageError> {
+        self.last_step_nodes = 0;
+        // One budget for every search this call runs (a failed search may
+        // be followed by another toward other goals).
+        let mut left = budget;
         loop {
             match self.phase {
                 Phase::Idle => return Err(CoverageError::NotStarted),
@@ -398,7 +409,15 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
                     self.stats.searches += 1;
                     self.phase = Phase::Searching;
                 }
-                Phase::Searching => match self.search.resume(grid, budget) {
+                Phase::Searching if left == 0 => return Ok(Step::Pending),
+                Phase::Searching => match {
+                    let before = self.search.nodes_expanded();
+                    let r = self.search.resume(grid, left);
+                    let used = self.search.nodes_expanded().saturating_sub(before);
+                    self.last_step_nodes += used;
+                    left = left.saturating_sub(used);
+                    r
+                } {
                     Ok(Progress::Pending { .. }) => return Ok(Step::Pending),
                     Ok(Progress::Found(st)) => {
                         self.stats.nodes_expanded += st.nodes_expanded as u64;

@@ -25,6 +25,7 @@ pub mod b_theta;
 pub mod ba_star;
 pub mod bits;
 pub mod capacity;
+pub mod check;
 pub mod cost;
 pub mod coverage;
 pub mod grid;

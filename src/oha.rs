@@ -9,16 +9,16 @@
 //! pruning ([`crate::prune`]) then shortens it.
 //!
 //! **Integer form.** With A = goal − s, B = start − s and c = cost units per
-//! cell, h = c·|A| and h·cos θ = c·(A·B)/|B|, so
-//! h' = 2h + c²·(A·B) / (c·|B|): two integer square roots (h and c·|B|) and
-//! one 64-bit division, no floating point. The result is clamped to
+//! cell, h = c·|A| and h·cos θ = c·(A·B)/|B|, so h' = 2h + c·(A·B)/|B|:
+//! two integer square roots (h, and |B| with 16 fractional bits) and one
+//! 64-bit division, no floating point. The result is clamped to
 //! [h, 3h] so rounding can never take it outside the paper's range.
 //!
 //! **Multi-goal** ([open] in ALGORITHMS.md §1; our choice): h is the
 //! distance to the nearest goal and θ is taken toward that same goal.
 
 use crate::astar::nearest_goal;
-use crate::cost::{euclid, COST_PER_CELL};
+use crate::cost::{euclid, isqrt_round_u64, COST_PER_CELL};
 use crate::grid::{Cell, Grid};
 use crate::search::{Algo, SearchError, SearchState, SearchStats};
 
@@ -39,13 +39,16 @@ pub fn weighted(s: Cell, start: Cell, goal: Cell) -> u32 {
     if s == start || s == goal || h == 0 {
         return h;
     }
-    let b_len = euclid(bx, by) as i64; // c·|B| > 0 since s ≠ start
-    if b_len == 0 {
+    // |B| with 16 fractional bits: |B|² < 2^22 on any map we take, so
+    // |B|²·2^32 fits in u64 and the rounding error is below 2^-17 cells.
+    let b2 = (bx as i64 * bx as i64 + by as i64 * by as i64) as u64;
+    let b_q16 = isqrt_round_u64(b2 << 32) as i64;
+    if b_q16 == 0 {
         return h;
     }
     let dot = ax as i64 * bx as i64 + ay as i64 * by as i64;
     let c = COST_PER_CELL as i64;
-    let h_cos = (c * c * dot) / b_len; // = h·cos θ, rounded toward zero
+    let h_cos = (c * dot * 65536) / b_q16; // = h·cos θ = c·(A·B)/|B|
     let hh = h as i64;
     (2 * hh + h_cos).clamp(hh, 3 * hh).min(u32::MAX as i64) as u32
 }

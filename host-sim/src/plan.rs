@@ -75,6 +75,8 @@ pub struct Plan {
     pub time_us: f64,
     /// The largest number of nodes one `step` call expanded.
     pub max_nodes_per_call: u64,
+    /// Every move as the planner emitted it (before merging).
+    pub moves: Vec<Waypoint>,
 }
 
 impl Plan {
@@ -136,15 +138,13 @@ pub fn plan_on(
     let mut steps: Vec<Waypoint> = Vec::new();
     let mut max_nodes = 0u64;
     loop {
-        let before = planner.stats().nodes_expanded;
         let s = planner
             .step(&mut *grid, budget)
             .map_err(|e| e.to_string())?;
-        let searching = planner.stats().nodes_expanded;
-        max_nodes = max_nodes.max(searching - before);
+        max_nodes = max_nodes.max(planner.last_step_nodes() as u64);
         match s {
             Step::Move(w) => steps.push(w),
-            Step::Pending => max_nodes = max_nodes.max(budget as u64),
+            Step::Pending => {}
             Step::Done => break,
         }
     }
@@ -153,6 +153,7 @@ pub fn plan_on(
     for w in &steps {
         rec.push(w.to, w.kind, w.starts_segment);
     }
+
     rec.add_planner_counts(stats.backtrack_points_total, stats.nodes_expanded);
     // Merge collinear moves of one kind into waypoints; group into segments
     // (a new cover segment also starts where the planner marks one).
@@ -226,6 +227,7 @@ pub fn plan_on(
         stats,
         time_us,
         max_nodes_per_call: max_nodes,
+        moves: steps,
     })
 }
 
