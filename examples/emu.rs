@@ -31,11 +31,17 @@ mod emu {
     use cortex_m_semihosting::debug;
     use defmt_semihosting as _;
     // Links the device's interrupt vector table; nothing touches RCC.
-    use robovac::capacity::{BenchGrid, BenchSearch, BENCH_CELLS, SEARCH128_BYTES};
+    use robovac::capacity::{
+        BenchCoverage, BenchGrid, BENCH_CELLS, BENCH_WORDS, COVERAGE128_BYTES, GRID128_BYTES,
+        SEARCH128_BYTES,
+    };
+    use robovac::check::Checker;
     use robovac::cost::{COST_DIAGONAL, COST_PER_CELL};
+    use robovac::coverage::{PlannerKind, Step};
     use robovac::grid::Grid;
     use robovac::los::line_of_sight;
     use robovac::maps::{table1_instance, SplitMix64, FLAT_40X20, TABLE1_CORNER, TABLE1_MAP};
+    use robovac::metrics::MetricsRecorder;
     use robovac::prune::prune;
     use robovac::{Algo, Cell};
     use stm32f4xx_hal as _;
@@ -129,7 +135,9 @@ mod emu {
     // ---- independent checker: a small Dijkstra of its own -------------
 
     /// Oracle heap entries (lazy deletion; a full heap fails the run loudly).
-    const HEAP_CAP: usize = 2048;
+    const HEAP_CAP: usize = 1536;
+    /// Node budget per planner call in the bounded coverage runs.
+    const NODE_BUDGET: u32 = 64;
     /// Longest path the run reads out.
     const PATH_CAP: usize = 1024;
 
@@ -262,10 +270,101 @@ mod emu {
         exit(debug::EXIT_FAILURE)
     }
 
+    fn first_free(g: &BenchGrid) -> Option<Cell> {
+        (0..g.cells())
+            .map(|i| g.cell_at(i))
+            .find(|c| g.is_free(c.x as i32, c.y as i32))
+    }
+
+    /// Plans a complete coverage step by step with `budget` nodes per call,
+    /// checks it with the independent checker and the metrics recorder, and
+    /// reports instructions for the whole plan and for the largest call.
+    #[allow(clippy::too_many_arguments)]
+    fn coverage_run(
+        meter: &Meter,
+        cov: &mut BenchCoverage,
+        grid: &mut BenchGrid,
+        check: &mut Checker<BENCH_WORDS>,
+        rec: &mut MetricsRecorder<BENCH_WORDS>,
+        start: Cell,
+        kind: PlannerKind,
+        budget: u32,
+        name: &str,
+    ) {
+        cov.set_kind(kind);
+        if check.start(grid, start).is_err() {
+            fail("checker start");
+        }
+        rec.start(grid, start);
+        let (r, mut total) = meter.measure(|| cov.start(grid, start));
+        if r.is_err() {
+            fail("planner start");
+        }
+        let (mut max_call, mut calls, mut max_nodes) = (0u64, 0u32, 0u32);
+        loop {
+            let (r, insn) = meter.measure(|| cov.step(grid, budget));
+            total += insn;
+            max_call = max_call.max(insn);
+            calls += 1;
+            max_nodes = max_nodes.max(cov.last_step_nodes());
+            match r {
+                Ok(Step::Move(w)) => {
+                    if check.push(grid, w.to, w.kind, w.starts_segment).is_err() {
+                        fail("coverage move enters an obstacle or cuts a corner");
+                    }
+                    rec.push(w.to, w.kind, w.starts_segment);
+                }
+                Ok(Step::Pending) => {}
+                Ok(Step::Done) => break,
+                Err(_) => fail("coverage planner error"),
+            }
+        }
+        let c = check.finish(grid);
+        let m = rec.metrics();
+        if c.missed_cells != 0 {
+            fail("coverage incomplete");
+        }
+        if (
+            c.reachable_cells,
+            c.covered_cells,
+            c.repeated_cells,
+            c.turns,
+            c.segments,
+        ) != (
+            m.reachable_cells,
+            m.covered_cells,
+            m.repeated_cells,
+            m.turns,
+            m.segments,
+        ) {
+            fail("checker and metrics disagree");
+        }
+        if max_nodes > budget {
+            fail("a call exceeded its node budget");
+        }
+        defmt::println!(
+            "coverage {} {}: {}/{} cells, {} segments, {} turns, backtracking {} cells; {} instructions in {} calls, largest call {} instructions ({} nodes, budget {})",
+            name,
+            kind.name(),
+            c.covered_cells,
+            c.reachable_cells,
+            c.segments,
+            c.turns,
+            m.backtrack_path_cost / COST_PER_CELL as u64,
+            total,
+            calls,
+            max_call,
+            max_nodes,
+            budget
+        );
+    }
+
     #[entry]
     fn main() -> ! {
         static mut GRID: BenchGrid = BenchGrid::new();
-        static mut SEARCH: BenchSearch = BenchSearch::new();
+        static mut COV: BenchCoverage = BenchCoverage::new(PlannerKind::BOha);
+        static mut CHECK: Checker<BENCH_WORDS> = Checker::new();
+        static mut REC: MetricsRecorder<BENCH_WORDS> = MetricsRecorder::new();
         static mut ORACLE: Oracle = Oracle::new();
         static mut PATH: [Cell; PATH_CAP] = [Cell::new(0, 0); PATH_CAP];
 
@@ -293,6 +392,9 @@ mod emu {
         let meter = Meter {
             insn_per_kilotick: kilo,
         };
+        // Point-to-point searches use the coverage planner's own search
+        // state: one search state in RAM, not two.
+        let search = COV.search_state_mut();
         // Self-check of the meter: a known 100 000-instruction loop.
         let ((), k) = meter.measure(|| known_loop(50_000));
         defmt::println!(
@@ -308,11 +410,11 @@ mod emu {
             fail("built-in flat");
         }
         let (s, t) = (Cell::new(1, 1), Cell::new(38, 18));
-        let (res, insn) = meter.measure(|| SEARCH.search(GRID, s, &[t], Algo::Oha));
+        let (res, insn) = meter.measure(|| search.search(GRID, s, &[t], Algo::Oha));
         let Ok(stats) = res else {
             fail("OHA* on the flat")
         };
-        let Ok(n) = SEARCH.write_path(PATH) else {
+        let Ok(n) = search.write_path(PATH) else {
             fail("path read-out")
         };
         if check_steps(GRID, &PATH[..n]).is_none() {
@@ -349,7 +451,7 @@ mod emu {
             else {
                 continue;
             };
-            if SEARCH.search(GRID, s, &[t], Algo::AStar).is_err() {
+            if search.search(GRID, s, &[t], Algo::AStar).is_err() {
                 continue; // unreachable: draw again, as the host does
             }
             let Some(opt) = ORACLE.cost(GRID, s, t) else {
@@ -357,9 +459,9 @@ mod emu {
             };
             let mut a_cost = 0u32;
             for (k, (algo, name)) in algos.iter().enumerate() {
-                let (res, insn) = meter.measure(|| SEARCH.search(GRID, s, &[t], *algo));
+                let (res, insn) = meter.measure(|| search.search(GRID, s, &[t], *algo));
                 let Ok(st) = res else { fail(name) };
-                let Ok(n) = SEARCH.write_path(PATH) else {
+                let Ok(n) = search.write_path(PATH) else {
                     fail("path read-out")
                 };
                 if *algo == Algo::Theta {
@@ -413,10 +515,64 @@ mod emu {
         if sums[1].1 >= sums[0].1 {
             fail("OHA* did not expand fewer nodes than A*");
         }
+        // --- Complete coverage ------------------------------------------
+        if GRID.load_ascii(FLAT_40X20).is_err() {
+            fail("built-in flat");
+        }
+        let flat_start = Cell::new(1, 1);
+        coverage_run(
+            &meter,
+            COV,
+            GRID,
+            CHECK,
+            REC,
+            flat_start,
+            PlannerKind::BOha,
+            u32::MAX,
+            "flat 40x20",
+        );
+        let mut rng = SplitMix64::new(1);
+        let spec = robovac::maps::RandomMap {
+            width: 30,
+            height: 50,
+            ..robovac::maps::TABLE2_MAP
+        };
+        if robovac::maps::random_obstacles(GRID, spec, &mut rng).is_err() {
+            fail("table 2 map");
+        }
+        let Some(t2_start) = first_free(GRID) else {
+            fail("table 2 map has no free cell")
+        };
+        for kind in [PlannerKind::BOha, PlannerKind::BOhaPc, PlannerKind::BaStar] {
+            coverage_run(
+                &meter,
+                COV,
+                GRID,
+                CHECK,
+                REC,
+                t2_start,
+                kind,
+                u32::MAX,
+                "table2 50x30",
+            );
+            coverage_run(
+                &meter,
+                COV,
+                GRID,
+                CHECK,
+                REC,
+                t2_start,
+                kind,
+                NODE_BUDGET,
+                "table2 50x30",
+            );
+        }
         defmt::println!(
-            "memory: search state 100x50 {} bytes, 128x128 {} bytes (asserted at compile time)",
-            core::mem::size_of::<BenchSearch>(),
-            SEARCH128_BYTES
+            "memory: planner 100x50 {} bytes; at 128x128 search state {} bytes, planner {} bytes, grid {} bytes (asserted at compile time)",
+            core::mem::size_of::<BenchCoverage>(),
+            SEARCH128_BYTES,
+            COVERAGE128_BYTES,
+            GRID128_BYTES
         );
         defmt::println!("emulated run: all checks passed");
         exit(debug::EXIT_SUCCESS)

@@ -72,3 +72,44 @@ const _: () = assert!(GRID128_BYTES <= 3 * 2048 + 8);
 /// The firmware's search state fits comfortably in the F411's 128 KiB.
 pub const FW_SEARCH_BYTES: usize = core::mem::size_of::<FwSearch>();
 const _: () = assert!(FW_SEARCH_BYTES <= 46 * 1024);
+
+/// Backtracking-list capacity at 128 × 128 (points; overflow is handled by
+/// the rescan policy of [`crate::coverage`]).
+pub const REF128_LCAP: usize = 1024;
+/// Transit path buffer at 128 × 128 (cells of one unpruned search path).
+pub const REF128_PCAP: usize = 2048;
+/// The coverage planner at the reference 128 × 128 capacity.
+pub type Coverage128 =
+    crate::coverage::Coverage<REF128_CELLS, REF128_WORDS, REF128_OPEN, REF128_LCAP, REF128_PCAP>;
+
+/// Planner state at 128 × 128: the search state, the list (4 bytes a
+/// point), the path buffer (4 bytes a cell), two bitsets (in-list,
+/// abandoned) and a few fields.
+pub const COVERAGE128_BYTES: usize = core::mem::size_of::<Coverage128>();
+const _: () = assert!(
+    COVERAGE128_BYTES
+        <= SEARCH128_BYTES
+            + REF128_LCAP * 4
+            + REF128_PCAP * 4
+            + 2 * REF128_WORDS * 4
+            + 64 * 4
+            + 128
+);
+const _: () = assert!(COVERAGE128_BYTES <= 210_000);
+/// Grid plus planner at 128 × 128.
+pub const PLANNER128_TOTAL_BYTES: usize = COVERAGE128_BYTES + GRID128_BYTES;
+
+/// Firmware backtracking-list capacity.
+pub const FW_LCAP: usize = 512;
+/// Firmware transit path buffer.
+pub const FW_PCAP: usize = 1024;
+/// The firmware's coverage planner.
+pub type FwCoverage = crate::coverage::Coverage<FW_CELLS, FW_WORDS, FW_OPEN, FW_LCAP, FW_PCAP>;
+
+/// Backtracking list of the emulated run's planner.
+pub const BENCH_LCAP: usize = 512;
+/// Transit path buffer of the emulated run's planner.
+pub const BENCH_PCAP: usize = 1024;
+/// The emulated run's coverage planner (maps up to 100 × 50).
+pub type BenchCoverage =
+    crate::coverage::Coverage<BENCH_CELLS, BENCH_WORDS, BENCH_OPEN, BENCH_LCAP, BENCH_PCAP>;

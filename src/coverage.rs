@@ -142,6 +142,10 @@ impl core::fmt::Display for CoverageError {
 pub struct PlanStats {
     /// Points ever inserted into the backtracking list.
     pub backtrack_points_total: u32,
+    /// The list's size after each critical point's pruning (B-OHA*) or
+    /// rebuild (BA*), summed: the paper's count, as its ≈ 700 (B-OHA*) and
+    /// ≈ 3 885 (BA*) suggest.
+    pub backtrack_points_kept: u32,
     /// Nodes expanded by transit searches.
     pub nodes_expanded: u64,
     /// Critical points reached (ends of local coverage).
@@ -267,6 +271,7 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
             phase: Phase::Idle,
             stats: PlanStats {
                 backtrack_points_total: 0,
+                backtrack_points_kept: 0,
                 nodes_expanded: 0,
                 critical_points: 0,
                 searches: 0,
@@ -298,6 +303,13 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
     /// Counters so far.
     pub fn stats(&self) -> PlanStats {
         self.stats
+    }
+
+    /// The planner's search state, for point-to-point queries between
+    /// runs (it is idle whenever the planner is not searching), so a
+    /// firmware needs one search state, not two.
+    pub fn search_state_mut(&mut self) -> &mut SearchState<N, NW, OPEN> {
+        &mut self.search
     }
 
     /// The current backtracking list.
@@ -391,6 +403,7 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
                             ba_star::rebuild_list(self, grid)
                         }
                     }
+                    self.stats.backtrack_points_kept += self.list.len() as u32;
                 }
                 Phase::Critical => {
                     self.drop_stale(grid);
@@ -410,14 +423,7 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
                     self.phase = Phase::Searching;
                 }
                 Phase::Searching if left == 0 => return Ok(Step::Pending),
-                Phase::Searching => match {
-                    let before = self.search.nodes_expanded();
-                    let r = self.search.resume(grid, left);
-                    let used = self.search.nodes_expanded().saturating_sub(before);
-                    self.last_step_nodes += used;
-                    left = left.saturating_sub(used);
-                    r
-                } {
+                Phase::Searching => match self.resume_search(grid, &mut left) {
                     Ok(Progress::Pending { .. }) => return Ok(Step::Pending),
                     Ok(Progress::Found(st)) => {
                         self.stats.nodes_expanded += st.nodes_expanded as u64;
@@ -468,6 +474,21 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
                 }
             }
         }
+    }
+
+    /// Resumes the transit search within what is `left` of this call's
+    /// budget, and charges what it used.
+    fn resume_search<const GW: usize>(
+        &mut self,
+        grid: &Grid<GW>,
+        left: &mut u32,
+    ) -> Result<Progress, SearchError> {
+        let before = self.search.nodes_expanded();
+        let r = self.search.resume(grid, *left);
+        let used = self.search.nodes_expanded().saturating_sub(before);
+        self.last_step_nodes += used;
+        *left = left.saturating_sub(used);
+        r
     }
 
     /// Makes the waypoint for a move, marking the first cover move of a

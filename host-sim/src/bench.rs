@@ -186,6 +186,8 @@ impl Table2Agg {
         }
         *self.sums.entry("time_us").or_default() += p.time_us;
         *self.sums.entry("rescans_with_points").or_default() += p.stats.rescans_with_points as f64;
+        *self.sums.entry("backtrack_points_kept").or_default() +=
+            p.stats.backtrack_points_kept as f64;
         *self.sums.entry("critical_points").or_default() += p.stats.critical_points as f64;
         *self.sums.entry("abandoned_goals").or_default() += p.stats.abandoned_goals as f64;
         self.min_coverage = if self.runs == 0 {

@@ -531,6 +531,7 @@ fn cmd_table2(
         "total_path_length",
         "rotation_deg",
         "nodes_expanded",
+        "backtrack_points_kept",
     ];
     for (label, _, _) in host_sim::bench::TABLE2_SIZES {
         let wide = label == "30x50";
@@ -583,6 +584,7 @@ fn cmd_table2(
         for (m, paper) in [
             ("segments", "-19%"),
             ("backtrack_points_total", "-81%"),
+            ("backtrack_points_kept", "-81%"),
             ("backtrack_path_length", "-10%"),
             ("turns", if label == "30x50" { "-15%" } else { "" }),
         ] {

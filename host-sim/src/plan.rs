@@ -203,8 +203,7 @@ pub fn plan_on(
         }
     }
     let mut segments: Vec<Segment> = Vec::new();
-    for i in 1..waypoints.len() {
-        let (k, new) = kinds[i];
+    for (i, &(k, new)) in kinds.iter().enumerate().skip(1) {
         match segments.last_mut() {
             Some(s) if s.kind == k && s.to == i - 1 && !(new && k == SegmentKind::Cover) => {
                 s.to = i

@@ -150,3 +150,144 @@ fn demo_runs() {
     let s = String::from_utf8_lossy(&out.stdout);
     assert!(s.contains("nodes expanded") && s.contains('S') && s.contains('G'));
 }
+
+#[test]
+fn plan_writes_json_and_svg() {
+    let dir = std::env::temp_dir().join(format!("robovac-cli-p-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for planner in ["b-oha", "ba", "b-theta", "b-oha-pc"] {
+        let (j, s) = (
+            dir.join(format!("{planner}.json")),
+            dir.join(format!("{planner}.svg")),
+        );
+        let out = bin()
+            .args([
+                "plan",
+                "--map",
+                "maps/movingai/rooms64.map",
+                "--planner",
+                planner,
+                "--json",
+            ])
+            .arg(&j)
+            .arg("--svg")
+            .arg(&s)
+            .current_dir(repo())
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&j).unwrap()).unwrap();
+        assert_eq!(v["map"]["width"], 64);
+        assert_eq!(v["grid"].as_array().unwrap().len(), 64);
+        assert_eq!(v["start"], serde_json::json!([1, 1]));
+        let wp = v["waypoints"].as_array().unwrap();
+        assert!(wp.len() > 10);
+        let segs = v["segments"].as_array().unwrap();
+        assert!(segs
+            .iter()
+            .all(|s| s["kind"] == "cover" || s["kind"] == "transit"));
+        assert_eq!(
+            segs.last().unwrap()["to"].as_u64().unwrap() as usize,
+            wp.len() - 1
+        );
+        let m = &v["metrics"];
+        assert_eq!(m["coverage"], 1.0);
+        for k in [
+            "reachable_cells",
+            "covered_cells",
+            "repeated_cells",
+            "repetition",
+            "coverage_path_length",
+            "backtrack_path_length",
+            "total_path_length",
+            "turns",
+            "rotation_deg",
+            "segments",
+            "backtrack_points_total",
+            "nodes_expanded",
+            "time_us",
+        ] {
+            assert!(m[k].is_number(), "{k}");
+        }
+        let svg = std::fs::read_to_string(&s).unwrap();
+        assert!(
+            svg.starts_with("<svg") && svg.contains("polyline") && svg.contains("coverage 1.0000")
+        );
+        assert!(svg.contains("stroke-dasharray"), "transits are dashed");
+    }
+    // Bad planner and bad start: exit 2, one line.
+    for args in [
+        vec![
+            "plan",
+            "--map",
+            "maps/movingai/rooms64.map",
+            "--planner",
+            "zigzag",
+        ],
+        vec![
+            "plan",
+            "--map",
+            "maps/movingai/rooms64.map",
+            "--start",
+            "0,0",
+        ],
+        vec![
+            "plan",
+            "--map",
+            "maps/movingai/rooms64.map",
+            "--start",
+            "900,900",
+        ],
+    ] {
+        let out = bin().args(&args).current_dir(repo()).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert_eq!(
+            String::from_utf8_lossy(&out.stderr).trim().lines().count(),
+            1
+        );
+    }
+}
+
+#[test]
+fn table2_json_and_pictures() {
+    let dir = std::env::temp_dir().join(format!("robovac-cli-t2-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let j = dir.join("t2.json");
+    let out = bin()
+        .args(["bench", "table2", "--runs", "4", "--seed", "3", "--json"])
+        .arg(&j)
+        .arg("--svg-dir")
+        .arg(dir.join("svg"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("1200.01") && text.contains("ratios against our BA*"));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&j).unwrap()).unwrap();
+    for size in ["50x30", "30x50"] {
+        for p in ["ba", "b-theta", "b-oha", "b-oha-pc"] {
+            let r = &v[size][p];
+            assert_eq!(r["min_coverage"], 1.0, "{size} {p}");
+            for k in [
+                "coverage_path_length",
+                "segments",
+                "turns",
+                "backtrack_path_length",
+                "backtrack_points_total",
+                "time_us",
+            ] {
+                assert!(r[k].as_f64().unwrap() > 0.0, "{size} {p} {k}");
+            }
+        }
+    }
+    assert!(std::fs::read_dir(dir.join("svg")).unwrap().count() >= 8);
+}

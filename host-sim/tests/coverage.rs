@@ -410,3 +410,58 @@ fn papers_claims_hold_in_direction_on_wide_maps() {
         );
     }
 }
+
+/// The same floor in every supported format plans completely.
+#[test]
+fn every_format_plans_completely() {
+    let map = map_from_ascii(FLAT);
+    let dir = std::env::temp_dir().join(format!("robovac-formats-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (w, h) = (map.width, map.height);
+    // ASCII
+    std::fs::write(dir.join("flat.txt"), map.to_ascii()).unwrap();
+    // MovingAI
+    let mut mai = format!("type octile\nheight {h}\nwidth {w}\nmap\n");
+    for line in map.to_ascii().lines() {
+        mai += &line.replace('#', "@");
+        mai.push('\n');
+    }
+    std::fs::write(dir.join("flat.map"), mai).unwrap();
+    // ROS YAML + PGM (254 free, 0 wall), and PNG (RGBA), both 2x2 pixels a cell
+    let px: Vec<u8> = (0..2 * h)
+        .flat_map(|y| (0..2 * w).map(move |x| (x / 2, y / 2)))
+        .map(|(x, y)| {
+            if map.is_blocked(x as i32, y as i32) {
+                0u8
+            } else {
+                254
+            }
+        })
+        .collect();
+    let mut pgm = format!("P5\n{} {}\n255\n", 2 * w, 2 * h).into_bytes();
+    pgm.extend(&px);
+    std::fs::write(dir.join("flat.pgm"), pgm).unwrap();
+    std::fs::write(dir.join("flat.yaml"), "image: flat.pgm\nresolution: 0.15\norigin: [0.0, 0.0, 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n").unwrap();
+    let f = std::fs::File::create(dir.join("flat.png")).unwrap();
+    let mut e = png::Encoder::new(std::io::BufWriter::new(f), 2 * w, 2 * h);
+    e.set_color(png::ColorType::Rgba);
+    e.set_depth(png::BitDepth::Eight);
+    let rgba: Vec<u8> = px.iter().flat_map(|&v| [v, v, v, 255]).collect();
+    e.write_header().unwrap().write_image_data(&rgba).unwrap();
+    for (file, cell) in [
+        ("flat.txt", None),
+        ("flat.map", None),
+        ("flat.yaml", Some(0.3)),
+        ("flat.png", Some(0.3)),
+    ] {
+        let opts = host_sim::maps::LoadOptions {
+            cell_m: cell,
+            png_resolution_m: Some(0.15),
+        };
+        let m = host_sim::maps::load_map(&dir.join(file), opts).unwrap();
+        assert_eq!(m.blocked, map.blocked, "{file}");
+        for p in check_all(&m, None) {
+            assert_eq!(p.metrics.covered_cells, p.metrics.reachable_cells, "{file}");
+        }
+    }
+}

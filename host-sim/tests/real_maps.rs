@@ -113,6 +113,28 @@ fn real_maps_load_and_plan() {
                 stats.nodes_expanded
             );
             seen += 1;
+            if cell.is_some() {
+                for kind in host_sim::plan::ALL_PLANNERS {
+                    let p =
+                        host_sim::plan::plan(&m, kind, Some(s)).unwrap_or_else(|e| panic!("{e}"));
+                    let mut ck: Box<robovac::check::Checker<{ host_sim::state::HOST_WORDS }>> =
+                        Box::new(robovac::check::Checker::new());
+                    ck.start(&*grid, s).unwrap();
+                    for w in &p.moves {
+                        ck.push(&*grid, w.to, w.kind, w.starts_segment)
+                            .unwrap_or_else(|e| panic!("{}: {e:?}", p.kind.name()));
+                    }
+                    let c = ck.finish(&*grid);
+                    assert_eq!(c.missed_cells, 0, "{}", kind.name());
+                    eprintln!(
+                        "  {}: coverage {:.4}, backtracking {:.1} cells, {} segments",
+                        kind.name(),
+                        p.coverage(),
+                        p.metrics.backtrack_path_cost as f64 / 5741.0,
+                        p.metrics.segments
+                    );
+                }
+            }
         }
     }
     assert!(seen >= 6, "expected the shared maps, found {seen}");
