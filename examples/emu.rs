@@ -270,6 +270,18 @@ mod emu {
         exit(debug::EXIT_FAILURE)
     }
 
+    /// Prunes a path and checks every pruned segment's line of sight.
+    fn prune_checked(grid: &BenchGrid, path: &mut [Cell]) -> usize {
+        let m = prune(grid, path);
+        if path[..m]
+            .windows(2)
+            .any(|w| !line_of_sight(grid, w[0], w[1]))
+        {
+            fail("pruned path crosses an obstacle");
+        }
+        m
+    }
+
     fn first_free(g: &BenchGrid) -> Option<Cell> {
         (0..g.cells())
             .map(|i| g.cell_at(i))
@@ -420,13 +432,7 @@ mod emu {
         if check_steps(GRID, &PATH[..n]).is_none() {
             fail("OHA* flat path invalid");
         }
-        let m = prune(GRID, &mut PATH[..n]);
-        if PATH[..m]
-            .windows(2)
-            .any(|w| !line_of_sight(GRID, w[0], w[1]))
-        {
-            fail("pruned flat path crosses an obstacle");
-        }
+        let m = prune_checked(GRID, &mut PATH[..n]);
         defmt::println!(
             "flat 40x20 OHA*: cost {} units ({} cells), {} nodes, {} waypoints pruned, {} instructions",
             stats.cost,
@@ -487,13 +493,7 @@ mod emu {
                         fail("OHA* beat the optimum");
                     }
                 }
-                let m = prune(GRID, &mut PATH[..n]);
-                if PATH[..m]
-                    .windows(2)
-                    .any(|w| !line_of_sight(GRID, w[0], w[1]))
-                {
-                    fail("pruned path crosses an obstacle");
-                }
+                prune_checked(GRID, &mut PATH[..n]);
                 sums[k].0 += insn;
                 sums[k].1 += st.nodes_expanded as u64;
                 sums[k].2 += st.cost as u64;

@@ -174,41 +174,28 @@ impl<const NW: usize> Checker<NW> {
         if (px, py) != (0, 0) && (px * dir.1 - py * dir.0 != 0 || px * dir.0 + py * dir.1 < 0) {
             self.out.turns += 1;
         }
-        // Every cell whose closed square meets the segment between centres.
-        let (ax, ay) = (2 * from.x as i64 + 1, 2 * from.y as i64 + 1);
-        let (bx, by) = (2 * to.x as i64 + 1, 2 * to.y as i64 + 1);
-        let side = |x: i64, y: i64| ((bx - ax) * (y - ay) - (by - ay) * (x - ax)).signum();
-        let (x0, x1) = (from.x.min(to.x) as i64 - 1, from.x.max(to.x) as i64 + 1);
-        let (y0, y1) = (from.y.min(to.y) as i64 - 1, from.y.max(to.y) as i64 + 1);
-        for cy in y0..=y1 {
-            for cx in x0..=x1 {
-                let (lx, hx, ly, hy) = (2 * cx, 2 * cx + 2, 2 * cy, 2 * cy + 2);
-                if hx < ax.min(bx) || lx > ax.max(bx) || hy < ay.min(by) || ly > ay.max(by) {
-                    continue;
-                }
-                let s = [side(lx, ly), side(hx, ly), side(lx, hy), side(hx, hy)];
-                if s.iter().all(|&v| v > 0) || s.iter().all(|&v| v < 0) {
-                    continue;
-                }
-                let (x, y) = (cx as i32, cy as i32);
-                if grid.is_blocked(x, y) {
-                    return Err(CheckError::HitsObstacle {
-                        from,
-                        to,
-                        cell: Cell::from_xy(x, y).unwrap_or(from),
-                    });
-                }
-                if (x, y) == from.xy() {
-                    continue; // visited by the previous segment
-                }
-                let Some(i) = grid.index(x, y) else { continue };
-                if self.touched.get(i) {
-                    self.out.repeated_cells += 1;
-                } else {
-                    self.touched.put(i, true);
-                    self.out.covered_cells += 1;
+        let mut hit = None;
+        let (touched, out) = (&mut self.touched, &mut self.out);
+        touched_cells(from, to, |x, y| {
+            if grid.is_blocked(x, y) {
+                hit = Cell::from_xy(x, y).or(Some(from));
+                return false;
+            }
+            if (x, y) != from.xy() {
+                // (the first cell was visited by the previous segment)
+                if let Some(i) = grid.index(x, y) {
+                    if touched.get(i) {
+                        out.repeated_cells += 1;
+                    } else {
+                        touched.put(i, true);
+                        out.covered_cells += 1;
+                    }
                 }
             }
+            true
+        });
+        if let Some(cell) = hit {
+            return Err(CheckError::HitsObstacle { from, to, cell });
         }
         self.last = to;
         self.last_dir = dir;
@@ -227,4 +214,33 @@ impl<const NW: usize> Checker<NW> {
         self.out.missed_cells = missed;
         self.out
     }
+}
+
+/// Calls `visit(x, y)` for every cell whose closed square meets the segment
+/// between the centres of `from` and `to`, exactly (integer arithmetic in
+/// doubled coordinates: a square is met when its bounding box overlaps the
+/// segment's and its four corners are not all strictly on one side of the
+/// line). Stops early when `visit` returns false; returns false then.
+pub fn touched_cells(from: Cell, to: Cell, mut visit: impl FnMut(i32, i32) -> bool) -> bool {
+    let (ax, ay) = (2 * from.x as i64 + 1, 2 * from.y as i64 + 1);
+    let (bx, by) = (2 * to.x as i64 + 1, 2 * to.y as i64 + 1);
+    let side = |x: i64, y: i64| ((bx - ax) * (y - ay) - (by - ay) * (x - ax)).signum();
+    let (x0, x1) = (from.x.min(to.x) as i64 - 1, from.x.max(to.x) as i64 + 1);
+    let (y0, y1) = (from.y.min(to.y) as i64 - 1, from.y.max(to.y) as i64 + 1);
+    for cy in y0..=y1 {
+        for cx in x0..=x1 {
+            let (lx, hx, ly, hy) = (2 * cx, 2 * cx + 2, 2 * cy, 2 * cy + 2);
+            if hx < ax.min(bx) || lx > ax.max(bx) || hy < ay.min(by) || ly > ay.max(by) {
+                continue;
+            }
+            let s = [side(lx, ly), side(hx, ly), side(lx, hy), side(hx, hy)];
+            if s.iter().all(|&v| v > 0) || s.iter().all(|&v| v < 0) {
+                continue;
+            }
+            if !visit(cx as i32, cy as i32) {
+                return false;
+            }
+        }
+    }
+    true
 }

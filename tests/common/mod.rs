@@ -108,33 +108,10 @@ pub fn check_grid_path(grid: &TGrid, path: &[Cell]) -> f64 {
     len
 }
 
-/// Independent conservative line test, exact in integers: a cell is touched
-/// when the segment between the two cell centres meets its closed square.
-/// Coordinates are doubled so centres are integers; a square is met when its
-/// bounding box overlaps the segment's and its four corners are not all
-/// strictly on one side of the line.
+/// Conservative line test independent of the supercover walk in
+/// `robovac::los`: the checker's exact segment/closed-square intersection.
 pub fn segment_clear(grid: &TGrid, a: Cell, b: Cell) -> bool {
-    let (ax, ay) = (2 * a.x as i64 + 1, 2 * a.y as i64 + 1);
-    let (bx, by) = (2 * b.x as i64 + 1, 2 * b.y as i64 + 1);
-    let side = |x: i64, y: i64| ((bx - ax) * (y - ay) - (by - ay) * (x - ax)).signum();
-    let (x0, x1) = (a.x.min(b.x) as i64, a.x.max(b.x) as i64);
-    let (y0, y1) = (a.y.min(b.y) as i64, a.y.max(b.y) as i64);
-    for cy in y0 - 1..=y1 + 1 {
-        for cx in x0 - 1..=x1 + 1 {
-            let (lx, hx, ly, hy) = (2 * cx, 2 * cx + 2, 2 * cy, 2 * cy + 2);
-            if hx < ax.min(bx) || lx > ax.max(bx) || hy < ay.min(by) || ly > ay.max(by) {
-                continue;
-            }
-            let s = [side(lx, ly), side(hx, ly), side(lx, hy), side(hx, hy)];
-            if s.iter().all(|&v| v > 0) || s.iter().all(|&v| v < 0) {
-                continue;
-            }
-            if !free(grid, cx as i32, cy as i32) {
-                return false;
-            }
-        }
-    }
-    true
+    robovac::check::touched_cells(a, b, |x, y| free(grid, x, y))
 }
 
 pub fn polyline_len(p: &[Cell]) -> f64 {
