@@ -42,7 +42,7 @@ pub fn plan_svg(map: &MapData, p: &Plan, title: &str) -> String {
                 }
                 let _ = writeln!(
                     s,
-                    r##"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}" fill="#3b3b3b"/>"##,
+                    r##"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}" fill="#3b3b3b" shape-rendering="crispEdges"/>"##,
                     x0 as f64 * cs,
                     y as f64 * cs,
                     (x - x0) as f64 * cs,
