@@ -15,6 +15,7 @@
 //! blocked, capacities are checked and reported as typed errors.
 #![no_std]
 #![forbid(unsafe_code)]
+#![deny(clippy::indexing_slicing)]
 #![warn(missing_docs)]
 
 pub mod angle;
@@ -29,14 +30,19 @@ pub mod check;
 pub mod cost;
 pub mod coverage;
 pub mod grid;
+pub mod hal;
+pub mod lidar;
+pub mod lidar_map;
 pub mod los;
 pub mod maps;
 pub mod metrics;
+pub mod odometry;
 pub mod oha;
 pub mod open_list;
 pub mod prune;
 pub mod search;
 pub mod theta_star;
+pub mod wheel_control;
 
 pub use grid::{Cell, Grid, GridError};
 pub use search::{Algo, SearchError, SearchState, SearchStats};

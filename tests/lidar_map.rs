@@ -1,0 +1,80 @@
+//! The evidence map and the derived planner grid.
+
+use robovac::grid::Grid;
+use robovac::lidar::scan::{Scan, ScanAssembler};
+use robovac::lidar::{LidarFrame, LidarPoint};
+use robovac::lidar_map::{CellState, EvidenceMap, LidarMount};
+use robovac::odometry::Pose;
+
+const MOUNT: LidarMount = LidarMount {
+    offset_x_mm: 0,
+    offset_y_mm: 0,
+    zero_mrad: 0,
+    clockwise: false,
+    min_range_mm: 20,
+    max_range_mm: 12_000,
+};
+
+#[test]
+fn beams_clear_and_hit() {
+    let mut m: Box<EvidenceMap<{ 100 * 100 }>> = Box::new(EvidenceMap::new());
+    m.reset(100, 100, 50).unwrap();
+    // Robot at (1 m, 1 m) looking east; a wall 2 m ahead.
+    m.trace(1000, 1000, 3000, 1000, true);
+    let (hx, hy) = m.cell_of(3000, 1000);
+    assert_eq!(m.state(hx, hy), CellState::Occupied);
+    let (fx, fy) = m.cell_of(2000, 1000);
+    assert_eq!(m.state(fx, fy), CellState::Free);
+    // Well-seen free cell: one bad return does not flip it.
+    for _ in 0..25 {
+        m.trace(1000, 1000, 3000, 1000, true);
+    }
+    m.trace(1000, 1000, 2000, 1000, true);
+    assert_eq!(m.state(fx, fy), CellState::Free);
+    // And a well-seen wall survives one beam through it.
+    m.trace(1000, 1000, 4000, 1000, true);
+    assert_eq!(m.state(hx, hy), CellState::Occupied);
+}
+
+#[test]
+fn scans_assemble_and_map_a_room() {
+    // A 4 m square room seen from its centre by an ideal lidar.
+    let mut asm: ScanAssembler<64> = ScanAssembler::new();
+    let mut scan: Box<Scan<64>> = Box::new(Scan::new());
+    let pose = Pose { x_mm: 2000, y_mm: 2000, theta_mrad: 0 };
+    let mut got = false;
+    for rev in 0..2 {
+        for k in 0..38u32 {
+            let start = (k * 36000 / 38) as u16;
+            let mut f = LidarFrame { speed_dps: 3600, start_cdeg: start, end_cdeg: start + 900, timestamp_ms: 0, count: 12, ..Default::default() };
+            for i in 0..12 {
+                let a = (start as f64 + i as f64 * 900.0 / 11.0) / 100.0;
+                let r = a.to_radians();
+                // distance to the square's wall from the centre
+                let d = 2000.0 / r.cos().abs().max(r.sin().abs());
+                f.points[i] = LidarPoint { angle_cdeg: (a * 100.0) as u16 % 36000, dist_mm: d as u16, intensity: 200 };
+            }
+            got |= asm.push(&f, pose, &mut scan) && rev == 1;
+        }
+    }
+    assert!(got);
+    assert!(scan.point_count() >= 38 * 12 - 12);
+    let mut m: Box<EvidenceMap<{ 100 * 100 }>> = Box::new(EvidenceMap::new());
+    m.reset(80, 80, 50).unwrap();
+    m.integrate_scan(&scan, &MOUNT);
+    let c = |x, y| {
+        let (cx, cy) = m.cell_of(x, y);
+        m.state(cx, cy)
+    };
+    assert_eq!(c(2000, 2000), CellState::Free);
+    assert_eq!(c(3000, 2500), CellState::Free);
+    assert_eq!(c(3999, 2000), CellState::Occupied);
+    assert_eq!(c(2000, 1), CellState::Occupied);
+    // The planner grid: 0.3 m cells, robot radius 165 mm. Centre cells free,
+    // cells within a radius of the walls blocked.
+    let mut g: Box<Grid<{ robovac::bits::words_for(4096) }>> = Box::new(Grid::new());
+    m.derive_grid(&mut *g, 300, 165, true).unwrap();
+    assert_eq!((g.width(), g.height()), (13, 13));
+    assert!(g.is_free(6, 6));
+    assert!(g.is_blocked(0, 6) && g.is_blocked(6, 0));
+}
