@@ -7,12 +7,6 @@
 /// π in milliradians, rounded.
 pub const PI_MRAD: i32 = 3142;
 
-/// atan(2^-i) in micro-radians for the CORDIC rotations.
-const ATAN_URAD: [i64; 20] = [
-    785_398, 463_648, 244_979, 124_355, 62_419, 31_240, 15_624, 7_812, 3_906, 1_953, 977, 488, 244,
-    122, 61, 31, 15, 8, 4, 2,
-];
-
 /// atan2(y, x) in milliradians, in [-3142, 3142]; atan2(0, 0) = 0.
 pub fn atan2_mrad(y: i32, x: i32) -> i32 {
     let u = atan2_urad(y as i64, x as i64);
@@ -25,12 +19,12 @@ pub fn atan2_urad(y: i64, x: i64) -> i64 {
         return 0;
     }
     let upper = y >= 0;
-    // Rotate into the right half-plane, remembering the offset.
+    // Rotate into the right half-plane, remembering the offset (nrad).
     let (mut x, mut y, base) = if x < 0 {
         if y >= 0 {
-            (y, -x, 1_570_796)
+            (y, -x, 1_570_796_327)
         } else {
-            (-y, x, -1_570_796)
+            (-y, x, -1_570_796_327)
         }
     } else {
         (x, y, 0)
@@ -40,7 +34,7 @@ pub fn atan2_urad(y: i64, x: i64) -> i64 {
     x <<= shift;
     y <<= shift;
     let mut z = 0i64;
-    for (i, a) in ATAN_URAD.iter().enumerate() {
+    for (i, a) in ATAN_NRAD.iter().enumerate() {
         let (xn, yn) = if y > 0 {
             z += a;
             (x + (y >> i), y - (x >> i))
@@ -53,7 +47,7 @@ pub fn atan2_urad(y: i64, x: i64) -> i64 {
     }
     // The result has the sign of y; CORDIC's last few µrad of error must
     // not carry it across ±π (a reversal is π, not −π).
-    let r = base + z;
+    let r = (base + z + 500).div_euclid(1000); // nrad → µrad, rounded
     if upper {
         r.clamp(0, 3_141_593)
     } else {

@@ -29,14 +29,14 @@ proptest! {
         prop_assert!((rr - (n as f64).sqrt()).abs() <= 0.5 + 1e-6 * (n as f64).sqrt().max(1.0) * 1e-6);
     }
 
-    /// CORDIC atan2 is within 5 µrad of f64 over the whole circle, and a
+    /// CORDIC atan2 is within 1 µrad of f64 over the whole circle, and a
     /// reversal is +π.
     #[test]
     fn atan2_matches_f64(y in -1_000_000i64..1_000_000, x in -1_000_000i64..1_000_000) {
         prop_assume!((x, y) != (0, 0));
         let ours = robovac::angle::atan2_urad(y, x) as f64;
         let exact = (y as f64).atan2(x as f64) * 1e6;
-        prop_assert!((ours - exact).abs() <= 5.0, "atan2({y},{x}) = {ours} vs {exact}");
+        prop_assert!((ours - exact).abs() <= 1.0, "atan2({y},{x}) = {ours} vs {exact}");
         prop_assert!((robovac::angle::atan2_mrad(y as i32, x as i32) as f64 - exact / 1000.0).abs() <= 0.51);
     }
 
