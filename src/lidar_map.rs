@@ -129,12 +129,18 @@ impl<const N: usize> EvidenceMap<N> {
     /// The cell (column, row from the top) holding world point (x, y) mm.
     pub fn cell_of(&self, x_mm: i32, y_mm: i32) -> (i32, i32) {
         let r = self.res_mm as i32;
-        (x_mm.div_euclid(r), self.height as i32 - 1 - y_mm.div_euclid(r))
+        (
+            x_mm.div_euclid(r),
+            self.height as i32 - 1 - y_mm.div_euclid(r),
+        )
     }
 
     /// The evidence counter of a cell (0 off the map).
     pub fn evidence(&self, cx: i32, cy: i32) -> i8 {
-        self.index(cx, cy).and_then(|i| self.counts.get(i)).copied().unwrap_or(0)
+        self.index(cx, cy)
+            .and_then(|i| self.counts.get(i))
+            .copied()
+            .unwrap_or(0)
     }
 
     /// What the map says about a cell (off the map: unknown).
@@ -163,8 +169,10 @@ impl<const N: usize> EvidenceMap<N> {
             // The lidar's position and heading in the world.
             let th = pose.theta_mrad as i64 * 1000;
             let (s, c) = sin_cos_q30(th);
-            let ox = pose.x_mm as i64 + ((mount.offset_x_mm as i64 * c - mount.offset_y_mm as i64 * s) >> 30);
-            let oy = pose.y_mm as i64 + ((mount.offset_x_mm as i64 * s + mount.offset_y_mm as i64 * c) >> 30);
+            let ox = pose.x_mm as i64
+                + ((mount.offset_x_mm as i64 * c - mount.offset_y_mm as i64 * s) >> 30);
+            let oy = pose.y_mm as i64
+                + ((mount.offset_x_mm as i64 * s + mount.offset_y_mm as i64 * c) >> 30);
             for p in frame.points() {
                 if p.dist_mm == 0 || p.dist_mm < mount.min_range_mm {
                     continue;
@@ -261,7 +269,8 @@ impl<const N: usize> EvidenceMap<N> {
                         } else {
                             CellState::Occupied // the map's edge is a wall
                         };
-                        if st == CellState::Occupied || (unknown_blocks && st == CellState::Unknown) {
+                        if st == CellState::Occupied || (unknown_blocks && st == CellState::Unknown)
+                        {
                             blocked = true;
                             break 'scan;
                         }

@@ -110,7 +110,14 @@ impl WheelControl {
         }
         let g = self.gains;
         let dl = pi_step(&mut self.left, &g, sl, meas_left_mm_s, left_ticked, dt_us);
-        let dr = pi_step(&mut self.right, &g, sr, meas_right_mm_s, right_ticked, dt_us);
+        let dr = pi_step(
+            &mut self.right,
+            &g,
+            sr,
+            meas_right_mm_s,
+            right_ticked,
+            dt_us,
+        );
         if self.left.no_tick_us >= g.stall_ms.saturating_mul(1000) {
             self.fault = Some(WheelFault::LeftStall);
         } else if self.right.no_tick_us >= g.stall_ms.saturating_mul(1000) {
@@ -136,7 +143,8 @@ fn pi_step(pi: &mut Pi, g: &WheelGains, set: i32, meas: i32, ticked: bool, dt_us
         pi.integ_pm_q8 += g.ki_q8 as i64 * err * dt_us as i64 / 1_000_000;
         pi.integ_pm_q8 = pi.integ_pm_q8.clamp(-max, max);
     }
-    let duty = ((ff + p + pi.integ_pm_q8) >> 8).clamp(-(g.max_duty_pm as i64), g.max_duty_pm as i64);
+    let duty =
+        ((ff + p + pi.integ_pm_q8) >> 8).clamp(-(g.max_duty_pm as i64), g.max_duty_pm as i64);
     if duty.abs() >= g.stall_duty_pm as i64 && !ticked {
         pi.no_tick_us = pi.no_tick_us.saturating_add(dt_us);
     } else {

@@ -41,10 +41,22 @@ fn datasheet_frame_decodes_exactly() {
 
 /// A plausible random frame.
 fn frame_strategy() -> impl Strategy<Value = [u8; FRAME_LEN]> {
-    (2000u16..4500, 0u16..36000, any::<[(u16, u8); 12]>(), 0u16..30000).prop_map(|(speed, start, pts, ts)| {
-        let span = (speed as u32 * 100 * 11 / 4500) as u16;
-        encode(speed, start, ((start as u32 + span as u32) % 36000) as u16, ts, &pts)
-    })
+    (
+        2000u16..4500,
+        0u16..36000,
+        any::<[(u16, u8); 12]>(),
+        0u16..30000,
+    )
+        .prop_map(|(speed, start, pts, ts)| {
+            let span = (speed as u32 * 100 * 11 / 4500) as u16;
+            encode(
+                speed,
+                start,
+                ((start as u32 + span as u32) % 36000) as u16,
+                ts,
+                &pts,
+            )
+        })
 }
 
 proptest! {
@@ -126,7 +138,15 @@ fn implausible_frames_are_rejected_and_counted() {
     let (out, p) = decode_all(&[slow, wide, bad_angle].concat());
     assert!(out.is_empty());
     let s = p.stats();
-    assert_eq!((s.rejected, s.rejected_speed, s.rejected_span, s.crc_failures), (3, 1, 2, 0));
+    assert_eq!(
+        (
+            s.rejected,
+            s.rejected_speed,
+            s.rejected_span,
+            s.crc_failures
+        ),
+        (3, 1, 2, 0)
+    );
 }
 
 /// How often corruption lets a frame through that was never sent: 20 000
@@ -141,9 +161,16 @@ fn spurious_frame_rate_is_small() {
             .map(|_| {
                 let speed = 3000 + rng.below(1200) as u16;
                 let start = rng.below(36000) as u16;
-                let pts: [(u16, u8); 12] = core::array::from_fn(|_| (rng.below(12000) as u16, rng.below(256) as u8));
+                let pts: [(u16, u8); 12] =
+                    core::array::from_fn(|_| (rng.below(12000) as u16, rng.below(256) as u8));
                 let span = (speed as u32 * 100 * 11 / 4500) as u16;
-                encode(speed, start, ((start as u32 + span as u32) % 36000) as u16, rng.below(30000) as u16, &pts)
+                encode(
+                    speed,
+                    start,
+                    ((start as u32 + span as u32) % 36000) as u16,
+                    rng.below(30000) as u16,
+                    &pts,
+                )
             })
             .collect();
         let mut bytes = Vec::new();
@@ -154,14 +181,26 @@ fn spurious_frame_rate_is_small() {
                 corrupted += 1;
                 let mut g = f.to_vec();
                 let pos = rng.below(FRAME_LEN as u32) as usize;
-                if rng.below(2) == 0 { g.remove(pos); } else { g.truncate(pos); }
+                if rng.below(2) == 0 {
+                    g.remove(pos);
+                } else {
+                    g.truncate(pos);
+                }
                 bytes.extend(g);
             } else {
                 bytes.extend_from_slice(f);
             }
         }
         let (out, _) = decode_all(&bytes);
-        let enc = |o: &LidarFrame| encode(o.speed_dps, o.start_cdeg, o.end_cdeg, o.timestamp_ms, &core::array::from_fn(|i| (o.points[i].dist_mm, o.points[i].intensity)));
+        let enc = |o: &LidarFrame| {
+            encode(
+                o.speed_dps,
+                o.start_cdeg,
+                o.end_cdeg,
+                o.timestamp_ms,
+                &core::array::from_fn(|i| (o.points[i].dist_mm, o.points[i].intensity)),
+            )
+        };
         for o in &out {
             if !frames.contains(&enc(o)) {
                 spurious += 1;

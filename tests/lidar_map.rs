@@ -41,18 +41,33 @@ fn scans_assemble_and_map_a_room() {
     // A 4 m square room seen from its centre by an ideal lidar.
     let mut asm: ScanAssembler<64> = ScanAssembler::new();
     let mut scan: Box<Scan<64>> = Box::new(Scan::new());
-    let pose = Pose { x_mm: 2000, y_mm: 2000, theta_mrad: 0 };
+    let pose = Pose {
+        x_mm: 2000,
+        y_mm: 2000,
+        theta_mrad: 0,
+    };
     let mut got = false;
     for rev in 0..2 {
         for k in 0..38u32 {
             let start = (k * 36000 / 38) as u16;
-            let mut f = LidarFrame { speed_dps: 3600, start_cdeg: start, end_cdeg: start + 900, timestamp_ms: 0, count: 12, ..Default::default() };
+            let mut f = LidarFrame {
+                speed_dps: 3600,
+                start_cdeg: start,
+                end_cdeg: start + 900,
+                timestamp_ms: 0,
+                count: 12,
+                ..Default::default()
+            };
             for i in 0..12 {
                 let a = (start as f64 + i as f64 * 900.0 / 11.0) / 100.0;
                 let r = a.to_radians();
                 // distance to the square's wall from the centre
                 let d = 2000.0 / r.cos().abs().max(r.sin().abs());
-                f.points[i] = LidarPoint { angle_cdeg: (a * 100.0) as u16 % 36000, dist_mm: d as u16, intensity: 200 };
+                f.points[i] = LidarPoint {
+                    angle_cdeg: (a * 100.0) as u16 % 36000,
+                    dist_mm: d as u16,
+                    intensity: 200,
+                };
             }
             got |= asm.push(&f, pose, &mut scan) && rev == 1;
         }

@@ -46,7 +46,11 @@ pub const fn crc8_table() -> [u8; 256] {
         let mut c = i as u8;
         let mut b = 0;
         while b < 8 {
-            c = if c & 0x80 != 0 { (c << 1) ^ 0x4D } else { c << 1 };
+            c = if c & 0x80 != 0 {
+                (c << 1) ^ 0x4D
+            } else {
+                c << 1
+            };
             b += 1;
         }
         t[i] = c;
@@ -59,8 +63,9 @@ static CRC_TABLE: [u8; 256] = crc8_table();
 
 /// CRC-8 of `data` as the LD06 computes it.
 pub fn crc8(data: &[u8]) -> u8 {
-    data.iter()
-        .fold(0u8, |c, &b| CRC_TABLE.get((c ^ b) as usize).copied().unwrap_or(0))
+    data.iter().fold(0u8, |c, &b| {
+        CRC_TABLE.get((c ^ b) as usize).copied().unwrap_or(0)
+    })
 }
 
 /// The LD06 parser.
@@ -207,7 +212,13 @@ impl LidarProtocol for Ld06 {
 }
 
 /// Encodes a frame (for the simulator and tests): 12 points, CRC added.
-pub fn encode(speed_dps: u16, start_cdeg: u16, end_cdeg: u16, timestamp_ms: u16, points: &[(u16, u8); 12]) -> [u8; FRAME_LEN] {
+pub fn encode(
+    speed_dps: u16,
+    start_cdeg: u16,
+    end_cdeg: u16,
+    timestamp_ms: u16,
+    points: &[(u16, u8); 12],
+) -> [u8; FRAME_LEN] {
     let mut b = [0u8; FRAME_LEN];
     b[0] = HEADER;
     b[1] = VER_LEN;
