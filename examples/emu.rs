@@ -22,6 +22,8 @@
 #![cfg_attr(target_os = "none", no_main)]
 
 #[cfg(target_os = "none")]
+// cortex-m-rt turns each `static mut` of the entry point into an argument.
+#[allow(clippy::too_many_arguments)]
 mod emu {
     use core::sync::atomic::{AtomicU32, Ordering};
 
@@ -39,9 +41,14 @@ mod emu {
     use robovac::cost::{COST_DIAGONAL, COST_PER_CELL};
     use robovac::coverage::{PlannerKind, Step};
     use robovac::grid::Grid;
+    use robovac::lidar::ld06::{encode, Ld06};
+    use robovac::lidar::scan::{Scan, ScanAssembler};
+    use robovac::lidar::LidarProtocol;
+    use robovac::lidar_map::{CellState, EvidenceMap, LidarMount};
     use robovac::los::line_of_sight;
     use robovac::maps::{table1_instance, SplitMix64, FLAT_40X20, TABLE1_CORNER, TABLE1_MAP};
     use robovac::metrics::MetricsRecorder;
+    use robovac::odometry::{DriveGeometry, Odometry, Pose};
     use robovac::prune::prune;
     use robovac::{Algo, Cell};
     use stm32f4xx_hal as _;
@@ -135,11 +142,11 @@ mod emu {
     // ---- independent checker: a small Dijkstra of its own -------------
 
     /// Oracle heap entries (lazy deletion; a full heap fails the run loudly).
-    const HEAP_CAP: usize = 1536;
+    const HEAP_CAP: usize = 1024;
     /// Node budget per planner call in the bounded coverage runs.
     const NODE_BUDGET: u32 = 64;
     /// Longest path the run reads out.
-    const PATH_CAP: usize = 1024;
+    const PATH_CAP: usize = 512;
 
     struct Oracle {
         dist: [u32; BENCH_CELLS],
@@ -282,6 +289,129 @@ mod emu {
         m
     }
 
+    /// LD06 bytes of a 3 m square room seen from its centre, parsed on the
+    /// target; odometry updates; one revolution's map update. Checked and
+    /// measured.
+    fn lidar_and_odometry(
+        meter: &Meter,
+        evid: &mut EvidenceMap<{ 64 * 64 }>,
+        asm: &mut ScanAssembler<40>,
+        scan: &mut Scan<40>,
+    ) {
+        // Three revolutions of 36 frames (10° each, 12 samples).
+        let mut parser = Ld06::new();
+        let (mut bytes, mut parse_insn, mut frames, mut revs) = (0u64, 0u64, 0u32, 0u32);
+        let pose = Pose {
+            x_mm: 1500,
+            y_mm: 1500,
+            theta_mrad: 0,
+        };
+        for rev in 0..3u32 {
+            for k in 0..36u32 {
+                let start = (k * 1000) as u16;
+                let pts: [(u16, u8); 12] = core::array::from_fn(|i| {
+                    let cdeg = k as i64 * 1000 + i as i64 * 917 / 11;
+                    let (s, c) = robovac::angle::sin_cos_q30(cdeg * 174_533 / 1000);
+                    let m = s.abs().max(c.abs()).max(1);
+                    (((1500i64 << 30) / m) as u16, 200)
+                });
+                let frame = encode(3600, start, start + 917, (rev * 100 + k) as u16, &pts);
+                // One measurement per frame (47 bytes), so the meter's own
+                // cost is spread over the bytes.
+                let (got, insn) = meter.measure(|| {
+                    let mut got = None;
+                    for &b in frame.iter() {
+                        if let Some(f) = parser.feed(b) {
+                            got = Some(f);
+                        }
+                    }
+                    got
+                });
+                parse_insn += insn;
+                bytes += frame.len() as u64;
+                if let Some(f) = got {
+                    frames += 1;
+                    if asm.push(&f, pose, scan) {
+                        revs += 1;
+                    }
+                }
+            }
+        }
+        if frames != 108 || parser.stats().crc_failures != 0 || revs != 2 {
+            fail("lidar parse or scan assembly");
+        }
+        defmt::println!(
+            "lidar: {} bytes parsed into {} frames, {} instructions per byte",
+            bytes,
+            frames,
+            parse_insn / bytes
+        );
+        if evid.reset(64, 64, 50).is_err() {
+            fail("evidence map");
+        }
+        let mount = LidarMount {
+            offset_x_mm: 0,
+            offset_y_mm: 0,
+            zero_mrad: 0,
+            clockwise: false,
+            min_range_mm: 20,
+            max_range_mm: 12_000,
+        };
+        let (cells, insn) = meter.measure(|| evid.integrate_scan(scan, &mount));
+        let st = |x: i32, y: i32| {
+            let (cx, cy) = evid.cell_of(x, y);
+            evid.state(cx, cy)
+        };
+        if st(1500, 1500) != CellState::Free
+            || st(2000, 1200) != CellState::Free
+            || st(3010, 1500) != CellState::Occupied
+        {
+            fail("map update");
+        }
+        defmt::println!(
+            "map update: one revolution ({} points) ray-cast {} cells in {} instructions",
+            scan.point_count(),
+            cells,
+            insn
+        );
+        // Odometry: 2 m straight then a half turn, 100 Hz updates.
+        let geom = DriveGeometry {
+            ticks_per_rev: 1000,
+            wheel_diameter_um: 72_000,
+            wheelbase_um: 235_000,
+        };
+        let mut odo = Odometry::new(geom);
+        let (mut l, mut r) = (65_000u16, 65_000u16);
+        odo.update(l, r);
+        let (mut total, mut n) = (0u64, 0u64);
+        for _ in 0..885 {
+            l = l.wrapping_add(10);
+            r = r.wrapping_add(10);
+            let (_, insn) = meter.measure(|| odo.update(l, r));
+            total += insn;
+            n += 1;
+        }
+        for _ in 0..(3264 / 2) {
+            l = l.wrapping_sub(1);
+            r = r.wrapping_add(1);
+            let (_, insn) = meter.measure(|| odo.update(l, r));
+            total += insn;
+            n += 1;
+        }
+        let p = odo.pose();
+        if (p.x_mm - 2001).abs() > 2 || p.y_mm.abs() > 2 || (p.theta_mrad.abs() - 3141).abs() > 5 {
+            fail("odometry");
+        }
+        defmt::println!(
+            "odometry: {} updates, {} instructions per update; pose ({} mm, {} mm, {} mrad)",
+            n,
+            total / n,
+            p.x_mm,
+            p.y_mm,
+            p.theta_mrad
+        );
+    }
+
     fn first_free(g: &BenchGrid) -> Option<Cell> {
         (0..g.cells())
             .map(|i| g.cell_at(i))
@@ -377,6 +507,9 @@ mod emu {
         static mut COV: BenchCoverage = BenchCoverage::new(PlannerKind::BOha);
         static mut CHECK: Checker<BENCH_WORDS> = Checker::new();
         static mut REC: MetricsRecorder<BENCH_WORDS> = MetricsRecorder::new();
+        static mut EVID: EvidenceMap<{ 64 * 64 }> = EvidenceMap::new();
+        static mut ASM: ScanAssembler<40> = ScanAssembler::new();
+        static mut SCAN: Scan<40> = Scan::new();
         static mut ORACLE: Oracle = Oracle::new();
         static mut PATH: [Cell; PATH_CAP] = [Cell::new(0, 0); PATH_CAP];
 
@@ -567,6 +700,7 @@ mod emu {
                 "table2 50x30",
             );
         }
+        lidar_and_odometry(&meter, EVID, ASM, SCAN);
         defmt::println!(
             "memory: planner 100x50 {} bytes; at 128x128 search state {} bytes, planner {} bytes, grid {} bytes (asserted at compile time)",
             core::mem::size_of::<BenchCoverage>(),

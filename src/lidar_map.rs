@@ -186,8 +186,12 @@ impl<const N: usize> EvidenceMap<N> {
                 let b_urad = p.angle_cdeg as i64 * 174_533 / 1000 - mount.zero_mrad as i64 * 1000;
                 let rel = if mount.clockwise { -b_urad } else { b_urad };
                 let (bs, bc) = sin_cos_q30(th + rel);
-                let hx = ox + ((range * bc) >> 30);
-                let hy = oy + ((range * bs) >> 30);
+                // A return lies on the obstacle's face; half a cell further
+                // along the beam is inside it, so the hit lands in the
+                // obstacle's cell rather than the free one before it.
+                let reach = range + if hit { self.res_mm as i64 / 2 } else { 0 };
+                let hx = ox + ((reach * bc) >> 30);
+                let hy = oy + ((reach * bs) >> 30);
                 updated += self.trace(ox as i32, oy as i32, hx as i32, hy as i32, hit);
             }
         }

@@ -41,9 +41,10 @@ fn scans_assemble_and_map_a_room() {
     // A 4 m square room seen from its centre by an ideal lidar.
     let mut asm: ScanAssembler<64> = ScanAssembler::new();
     let mut scan: Box<Scan<64>> = Box::new(Scan::new());
+    // The room's walls face x, y = 100 and 4100 mm; the map has a margin.
     let pose = Pose {
-        x_mm: 2000,
-        y_mm: 2000,
+        x_mm: 2100,
+        y_mm: 2100,
         theta_mrad: 0,
     };
     let mut got = false;
@@ -75,21 +76,22 @@ fn scans_assemble_and_map_a_room() {
     assert!(got);
     assert!(scan.point_count() >= 38 * 12 - 12);
     let mut m: Box<EvidenceMap<{ 100 * 100 }>> = Box::new(EvidenceMap::new());
-    m.reset(80, 80, 50).unwrap();
+    m.reset(84, 84, 50).unwrap();
     m.integrate_scan(&scan, &MOUNT);
     let c = |x, y| {
         let (cx, cy) = m.cell_of(x, y);
         m.state(cx, cy)
     };
-    assert_eq!(c(2000, 2000), CellState::Free);
-    assert_eq!(c(3000, 2500), CellState::Free);
-    assert_eq!(c(3999, 2000), CellState::Occupied);
-    assert_eq!(c(2000, 1), CellState::Occupied);
+    assert_eq!(c(2100, 2100), CellState::Free);
+    assert_eq!(c(3100, 2600), CellState::Free);
+    assert_eq!(c(4090, 2100), CellState::Free); // just before the face
+    assert_eq!(c(4120, 2100), CellState::Occupied); // the wall
+    assert_eq!(c(2100, 80), CellState::Occupied);
     // The planner grid: 0.3 m cells, robot radius 165 mm. Centre cells free,
     // cells within a radius of the walls blocked.
     let mut g: Box<Grid<{ robovac::bits::words_for(4096) }>> = Box::new(Grid::new());
     m.derive_grid(&mut *g, 300, 165, true).unwrap();
-    assert_eq!((g.width(), g.height()), (13, 13));
-    assert!(g.is_free(6, 6));
-    assert!(g.is_blocked(0, 6) && g.is_blocked(6, 0));
+    assert_eq!((g.width(), g.height()), (14, 14));
+    assert!(g.is_free(7, 7) && g.is_free(2, 7));
+    assert!(g.is_blocked(0, 7) && g.is_blocked(7, 0) && g.is_blocked(13, 7));
 }

@@ -4,9 +4,12 @@
 
 pub mod bench;
 pub mod demo;
+pub mod drive;
 pub mod maps;
 pub mod metrics;
 pub mod plan;
+pub mod robot;
 pub mod scen;
 pub mod state;
 pub mod svg;
+pub mod world;

@@ -28,6 +28,12 @@ struct Cli {
 }
 
 #[derive(Clone, Copy, ValueEnum)]
+enum NoiseArg {
+    None,
+    Realistic,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
 enum AlgoArg {
     Astar,
     Oha,
@@ -119,6 +125,44 @@ enum Cmd {
         #[arg(long)]
         svg: Option<PathBuf>,
     },
+    /// Decode a captured lidar byte stream.
+    LidarDecode {
+        /// The capture file.
+        file: PathBuf,
+        /// Wire protocol.
+        #[arg(long, default_value = "ld06")]
+        protocol: String,
+        /// Print one JSON object.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Drive a route with the real wheel controllers and odometry while the lidar maps.
+    Drive {
+        #[command(flatten)]
+        map: MapArgs,
+        /// A route file (`x y` metres per line) or `square` (1 m, 10 laps).
+        #[arg(long)]
+        route: String,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        #[arg(long, value_enum, default_value = "none")]
+        noise: NoiseArg,
+        /// People walking about.
+        #[arg(long, default_value_t = 0)]
+        people: usize,
+        /// Write a picture of the drive.
+        #[arg(long)]
+        svg: Option<PathBuf>,
+        /// Write the measurements as JSON.
+        #[arg(long)]
+        json: Option<PathBuf>,
+        /// Write the lidar's bytes to this file.
+        #[arg(long)]
+        capture: Option<PathBuf>,
+        /// Flip a bit in this share of the lidar's bytes.
+        #[arg(long, default_value_t = 0.0)]
+        corrupt: f64,
+    },
     /// Benchmarks reproducing the papers' tables.
     Bench {
         #[command(subcommand)]
@@ -143,6 +187,11 @@ enum BenchCmd {
         /// Print one JSON object.
         #[arg(long)]
         json: bool,
+    },
+    /// Wheel speed step response to 0.3 m/s (rise time, overshoot, steady-state error).
+    WheelStep {
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
     },
     /// Seed 000 Table 2: BA*, B-Theta*, B-OHA* and ours on random 50x30 and 30x50 maps.
     Table2 {
@@ -210,6 +259,44 @@ fn run(cli: Cli) -> Result<(), String> {
             algo,
             json,
         } => cmd_scen(&scen, &map, algo.into(), json),
+        Cmd::LidarDecode {
+            file,
+            protocol,
+            json,
+        } => cmd_lidar_decode(&file, &protocol, json),
+        Cmd::Drive {
+            map,
+            route,
+            seed,
+            noise,
+            people,
+            svg,
+            json,
+            capture,
+            corrupt,
+        } => cmd_drive(
+            &map,
+            &route,
+            seed,
+            noise,
+            people,
+            svg.as_deref(),
+            json.as_deref(),
+            capture.as_deref(),
+            corrupt,
+        ),
+        Cmd::Bench {
+            which: BenchCmd::WheelStep { seed },
+        } => {
+            for (name, n) in [
+                ("none", host_sim::robot::Noise::None),
+                ("realistic", host_sim::robot::Noise::Realistic),
+            ] {
+                let (rise, over, ss) = host_sim::drive::step_response(n, 0.3, seed);
+                println!("wheel step 0 -> 0.3 m/s, noise {name:<9}: rise time (10-90 %) {:.0} ms, overshoot {:.1} %, steady-state error {:.2} %", rise * 1e3, over * 100.0, ss * 100.0);
+            }
+            Ok(())
+        }
         Cmd::Plan {
             map,
             planner,
@@ -634,6 +721,149 @@ fn cmd_table2(
             }
         }
         write_file(f, &serde_json::Value::Object(obj).to_string())?;
+    }
+    Ok(())
+}
+
+fn cmd_lidar_decode(file: &Path, protocol: &str, json: bool) -> Result<(), String> {
+    use robovac::lidar::LidarProtocol;
+    if protocol != "ld06" {
+        return Err(format!("unknown protocol {protocol:?} (supported: ld06)"));
+    }
+    let bytes = std::fs::read(file).map_err(|e| format!("{}: cannot read: {e}", file.display()))?;
+    let mut p = robovac::lidar::ld06::Ld06::new();
+    let (mut points, mut valid, mut speed_sum) = (0u64, 0u64, 0u64);
+    for &b in &bytes {
+        if let Some(f) = p.feed(b) {
+            points += f.count as u64;
+            valid += f.points().iter().filter(|q| q.dist_mm > 0).count() as u64;
+            speed_sum += f.speed_dps as u64;
+        }
+    }
+    let s = p.stats();
+    let mean_speed = if s.frames > 0 {
+        speed_sum as f64 / s.frames as f64
+    } else {
+        0.0
+    };
+    if json {
+        println!(
+            "{}",
+            json!({
+                "protocol": protocol, "bytes": s.bytes, "frames": s.frames, "crc_failures": s.crc_failures,
+                "rejected": s.rejected, "rejected_speed": s.rejected_speed, "rejected_span": s.rejected_span,
+                "rejected_timestamp": s.rejected_timestamp, "bytes_skipped": s.bytes_skipped,
+                "points": points, "points_with_return": valid, "mean_speed_dps": mean_speed,
+            })
+        );
+    } else {
+        println!("{}: {} bytes, {} frames, {} CRC failures, {} rejected, {} skipped bytes, {} points ({} with a return), mean speed {:.1} deg/s",
+            file.display(), s.bytes, s.frames, s.crc_failures, s.rejected, s.bytes_skipped, points, valid, mean_speed);
+    }
+    Ok(())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn cmd_drive(
+    args: &MapArgs,
+    route: &str,
+    seed: u64,
+    noise: NoiseArg,
+    people: usize,
+    svg: Option<&Path>,
+    json: Option<&Path>,
+    capture: Option<&Path>,
+    corrupt: f64,
+) -> Result<(), String> {
+    use host_sim::drive::{drive, drive_svg, parse_route, DriveOptions, Route};
+    let map = args.load()?;
+    let cell_m = map.cell_m.or(args.cell).unwrap_or(0.1);
+    let route = if route == "square" {
+        Route::Square {
+            side_m: 1.0,
+            laps: 10,
+        }
+    } else {
+        let text =
+            std::fs::read_to_string(route).map_err(|e| format!("{route}: cannot read: {e}"))?;
+        Route::Points(parse_route(&text).map_err(|e| format!("{route}: {e}"))?)
+    };
+    if !(0.0..=1.0).contains(&corrupt) {
+        return Err("--corrupt must be a share between 0 and 1".into());
+    }
+    let noise = match noise {
+        NoiseArg::None => host_sim::robot::Noise::None,
+        NoiseArg::Realistic => host_sim::robot::Noise::Realistic,
+    };
+    let t0 = Instant::now();
+    let (rep, trace) = drive(DriveOptions {
+        map: map.clone(),
+        cell_m,
+        route,
+        noise,
+        seed,
+        people,
+        capture: capture.is_some(),
+        corrupt,
+        evidence_mm: 50,
+    })
+    .map_err(|e| format!("{}: {e}", args.map.display()))?;
+    let wall = t0.elapsed().as_secs_f64();
+    let out = json!({
+        "completed": rep.completed,
+        "sim_time_s": rep.sim_time_s,
+        "wall_time_s": wall,
+        "distance_m": rep.distance_m,
+        "odometry": {
+            "final_position_error_mm": rep.final_position_error_mm,
+            "final_heading_error_mrad": rep.final_heading_error_mrad,
+            "max_position_error_mm": rep.max_position_error_mm,
+        },
+        "collisions": rep.collisions,
+        "lidar": {"frames": rep.parser.frames, "crc_failures": rep.parser.crc_failures, "rejected": rep.parser.rejected, "scans": rep.scans},
+        "map": {
+            "cells_seen": rep.map_cells_seen,
+            "correct_share": rep.map_correct_share,
+            "false_obstacle_share": rep.map_false_obstacle_share,
+            "false_free_share": rep.map_false_free_share,
+            "path_false_obstacle_rate": rep.path_false_obstacle_rate,
+        },
+    });
+    println!(
+        "drive on {}: {:.1} m in {:.1} s simulated ({:.1} s wall), route completed: {}",
+        args.map.display(),
+        rep.distance_m,
+        rep.sim_time_s,
+        wall,
+        rep.completed
+    );
+    println!(
+        "  odometry error at the end: {:.1} mm, {:.2} mrad (max during the run {:.1} mm)",
+        rep.final_position_error_mm, rep.final_heading_error_mrad, rep.max_position_error_mm
+    );
+    println!(
+        "  collisions: {}; lidar frames {} (CRC failures {}, rejected {}), scans {}",
+        rep.collisions, rep.parser.frames, rep.parser.crc_failures, rep.parser.rejected, rep.scans
+    );
+    println!("  map: {} cells seen, {:.2} % classified correctly, false obstacles: {:.2} % of free cells seen, {:.3} % along the path",
+        rep.map_cells_seen, 100.0 * rep.map_correct_share, 100.0 * rep.map_false_obstacle_share, 100.0 * rep.path_false_obstacle_rate);
+    if let Some(f) = json {
+        write_file(f, &out.to_string())?;
+    }
+    if let Some(f) = svg {
+        write_file(
+            f,
+            &drive_svg(
+                &map,
+                cell_m,
+                &trace,
+                &rep,
+                &format!("drive on {}", args.map.display()),
+            ),
+        )?;
+    }
+    if let (Some(f), Some(bytes)) = (capture, trace.capture.as_ref()) {
+        std::fs::write(f, bytes).map_err(|e| format!("{}: cannot write: {e}", f.display()))?;
     }
     Ok(())
 }

@@ -291,3 +291,76 @@ fn table2_json_and_pictures() {
     }
     assert!(std::fs::read_dir(dir.join("svg")).unwrap().count() >= 8);
 }
+
+#[test]
+fn drive_and_lidar_decode() {
+    let dir = std::env::temp_dir().join(format!("robovac-cli-d-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (j, cap, svg) = (dir.join("d.json"), dir.join("cap.ld06"), dir.join("d.svg"));
+    let out = bin()
+        .args([
+            "drive",
+            "--map",
+            "maps/flat/studio.txt",
+            "--cell",
+            "0.1",
+            "--route",
+            "maps/flat/studio_tour.txt",
+            "--seed",
+            "3",
+            "--json",
+        ])
+        .arg(&j)
+        .arg("--capture")
+        .arg(&cap)
+        .arg("--svg")
+        .arg(&svg)
+        .current_dir(repo())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&j).unwrap()).unwrap();
+    assert_eq!(v["completed"], true);
+    assert!(v["odometry"]["final_position_error_mm"].as_f64().unwrap() < 5.0);
+    assert!(v["map"]["correct_share"].as_f64().unwrap() > 0.98);
+    assert!(std::fs::read_to_string(&svg)
+        .unwrap()
+        .contains("odometry error"));
+    let d = json(&[
+        "lidar-decode",
+        "--protocol",
+        "ld06",
+        cap.to_str().unwrap(),
+        "--json",
+    ]);
+    // The capture also holds what was still on the wire when the drive ended.
+    let (cf, df) = (
+        d["frames"].as_u64().unwrap(),
+        v["lidar"]["frames"].as_u64().unwrap(),
+    );
+    assert!(cf >= df && cf <= df + 2, "{cf} vs {df}");
+    assert_eq!(d["crc_failures"], 0);
+    assert_eq!(d["mean_speed_dps"], 3600.0);
+    assert!(d["points"].as_u64().unwrap() > 0 && !d["rejected"].is_null());
+    // errors: a bad route, an unknown protocol, a missing capture
+    let route = dir.join("bad.txt");
+    std::fs::write(&route, "1 2\nthree 4\n").unwrap();
+    for args in [
+        vec![
+            "drive",
+            "--map",
+            "maps/flat/studio.txt",
+            "--route",
+            route.to_str().unwrap(),
+        ],
+        vec!["lidar-decode", "--protocol", "xv11", cap.to_str().unwrap()],
+        vec!["lidar-decode", "/nonexistent.bin"],
+    ] {
+        let out = bin().args(&args).current_dir(repo()).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+    }
+}

@@ -1,0 +1,458 @@
+//! The physical twin of the robot: motors, encoders, wheel slip, body
+//! collisions and an LD06 lidar that emits real frames as bytes at the
+//! baud rate's pace. Deterministic for a given seed. The core drives it
+//! through its own hardware traits ([`robovac::hal`]).
+
+use std::collections::VecDeque;
+
+use robovac::hal::{ByteSource, Clock, MotorDriver, QuadratureEncoder};
+use robovac::lidar::ld06;
+use robovac::maps::SplitMix64;
+use robovac::odometry::DriveGeometry;
+use robovac::wheel_control::WheelGains;
+
+use crate::world::World;
+
+/// Noise levels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Noise {
+    /// Ideal wheels and a noiseless lidar.
+    None,
+    /// Wheel slip, motor mismatch, lidar range noise and dropouts.
+    Realistic,
+}
+
+/// Every robot parameter, in one place. Defaults are modelled on a
+/// Roomba-class base.
+#[derive(Clone, Debug)]
+pub struct RobotConfig {
+    /// Body diameter, m.
+    pub diameter_m: f64,
+    /// Wheelbase, m.
+    pub wheelbase_m: f64,
+    /// Wheel diameter, m.
+    pub wheel_diameter_m: f64,
+    /// Encoder counts per wheel turn after quadrature decoding (a 250-line
+    /// encoder on the wheel shaft, ×4).
+    pub ticks_per_rev: u32,
+    /// Top speed, m/s.
+    pub max_speed_m_s: f64,
+    /// Cleaning speed, m/s.
+    pub clean_speed_m_s: f64,
+    /// Wheel surface speed at full duty, m/s.
+    pub full_duty_speed_m_s: f64,
+    /// Motor time constant, s.
+    pub motor_tau_s: f64,
+    /// Duty below which the motor does not turn (static friction), 0..1.
+    pub motor_deadband: f64,
+    /// Lidar rotation, Hz.
+    pub lidar_hz: f64,
+    /// Lidar samples per second.
+    pub lidar_samples_per_s: f64,
+    /// Lidar range limits, m.
+    pub lidar_range_m: (f64, f64),
+    /// Lidar range noise (1 σ), m, under realistic noise.
+    pub lidar_noise_m: f64,
+    /// Share of lidar samples lost, under realistic noise.
+    pub lidar_dropout: f64,
+    /// Wheel slip (1 σ, relative), under realistic noise.
+    pub slip_sd: f64,
+    /// Left/right motor gain mismatch, under realistic noise.
+    pub motor_mismatch: f64,
+    /// Lidar baud rate (8N1: 10 bits a byte).
+    pub baud: u32,
+    /// Physics step, µs.
+    pub physics_step_us: u64,
+    /// Wheel speed control period, µs (100 Hz).
+    pub control_period_us: u64,
+    /// Wheel controller gains.
+    pub gains: WheelGains,
+}
+
+impl Default for RobotConfig {
+    fn default() -> Self {
+        Self {
+            diameter_m: 0.33,
+            wheelbase_m: 0.235,
+            wheel_diameter_m: 0.072,
+            ticks_per_rev: 1000,
+            max_speed_m_s: 0.5,
+            clean_speed_m_s: 0.3,
+            full_duty_speed_m_s: 0.65,
+            motor_tau_s: 0.06,
+            motor_deadband: 0.05,
+            lidar_hz: 10.0,
+            lidar_samples_per_s: 4500.0,
+            lidar_range_m: (0.02, 12.0),
+            lidar_noise_m: 0.01,
+            lidar_dropout: 0.02,
+            slip_sd: 0.02,
+            motor_mismatch: 0.03,
+            baud: 230_400,
+            physics_step_us: 1000,
+            control_period_us: 10_000,
+            gains: WheelGains {
+                kff_q8: 374, // ≈ (1 − deadband) · 1000 ‰ / 650 mm/s, Q8
+                kp_q8: 300,
+                ki_q8: 2500,
+                max_duty_pm: 1000,
+                stall_duty_pm: 450,
+                stall_ms: 400,
+            },
+        }
+    }
+}
+
+impl RobotConfig {
+    /// The geometry the core's odometry needs.
+    pub fn geometry(&self) -> DriveGeometry {
+        DriveGeometry {
+            ticks_per_rev: self.ticks_per_rev,
+            wheel_diameter_um: (self.wheel_diameter_m * 1e6).round() as u32,
+            wheelbase_um: (self.wheelbase_m * 1e6).round() as u32,
+        }
+    }
+}
+
+/// A collision: the body moved into something.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Collision {
+    /// Sim time, s.
+    pub t_s: f64,
+    /// Where, m.
+    pub pos: (f64, f64),
+    /// True when a person walked into the robot while it stood still.
+    pub by_person: bool,
+}
+
+/// Byte corruption injected into the lidar stream.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Corruption {
+    /// Probability per byte of one flipped bit.
+    pub flip: f64,
+    /// Probability per byte of the byte being lost.
+    pub drop: f64,
+}
+
+/// The simulated robot in its world.
+pub struct Sim {
+    /// Parameters.
+    pub cfg: RobotConfig,
+    /// The world.
+    pub world: World,
+    noise: Noise,
+    rng: SplitMix64,
+    /// Sim time, µs.
+    pub t_us: u64,
+    /// True pose: x, y (m), heading (rad).
+    pub pose: (f64, f64, f64),
+    wheel_v: [f64; 2],
+    duty: [f64; 2],
+    braking: bool,
+    ticks: [f64; 2],
+    slip: [f64; 2],
+    mismatch: [f64; 2],
+    in_contact: bool,
+    /// Every collision.
+    pub collisions: Vec<Collision>,
+    lidar_angle_deg: f64,
+    sample_acc: f64,
+    samples: Vec<(u16, u16, u8)>,
+    uart: VecDeque<(u64, u8)>,
+    uart_free_us: f64,
+    /// Injected corruption.
+    pub corruption: Corruption,
+    /// Every byte the lidar sent, when recording.
+    pub capture: Option<Vec<u8>>,
+    /// The true trajectory (every 10 ms).
+    pub trajectory: Vec<(f64, f64)>,
+    /// Distance driven, m.
+    pub distance_m: f64,
+}
+
+fn gauss(rng: &mut SplitMix64) -> f64 {
+    // Box–Muller from two uniform draws.
+    let u1 = ((rng.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
+    let u2 = ((rng.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
+    (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
+}
+
+impl Sim {
+    /// A robot at `pose` (m, m, rad) in `world`.
+    pub fn new(
+        cfg: RobotConfig,
+        world: World,
+        pose: (f64, f64, f64),
+        noise: Noise,
+        seed: u64,
+    ) -> Self {
+        let mut rng = SplitMix64::new(seed);
+        let mismatch = if noise == Noise::Realistic {
+            [
+                1.0 + cfg.motor_mismatch * gauss(&mut rng),
+                1.0 + cfg.motor_mismatch * gauss(&mut rng),
+            ]
+        } else {
+            [1.0, 1.0]
+        };
+        Self {
+            cfg,
+            world,
+            noise,
+            rng,
+            t_us: 0,
+            pose,
+            wheel_v: [0.0; 2],
+            duty: [0.0; 2],
+            braking: false,
+            ticks: [0.0; 2],
+            slip: [0.0; 2],
+            mismatch,
+            in_contact: false,
+            collisions: Vec::new(),
+            lidar_angle_deg: 0.0,
+            sample_acc: 0.0,
+            samples: Vec::new(),
+            uart: VecDeque::new(),
+            uart_free_us: 0.0,
+            corruption: Corruption::default(),
+            capture: None,
+            trajectory: Vec::new(),
+            distance_m: 0.0,
+        }
+    }
+
+    /// The true wheel surface speeds, m/s.
+    pub fn wheel_speeds(&self) -> [f64; 2] {
+        self.wheel_v
+    }
+
+    /// Advances the physics by one step.
+    pub fn step(&mut self) {
+        let dt = self.cfg.physics_step_us as f64 * 1e-6;
+        let c = &self.cfg;
+        // Motors: duty → steady speed (dead band, saturation) → first order.
+        for i in 0..2 {
+            let d = self.duty[i].clamp(-1.0, 1.0);
+            let target = if self.braking || d.abs() < c.motor_deadband {
+                0.0
+            } else {
+                d.signum() * (d.abs() - c.motor_deadband) / (1.0 - c.motor_deadband)
+                    * c.full_duty_speed_m_s
+                    * self.mismatch[i]
+            };
+            let tau = if self.braking {
+                c.motor_tau_s * 0.3
+            } else {
+                c.motor_tau_s
+            };
+            self.wheel_v[i] += (target - self.wheel_v[i]) * (dt / tau).min(1.0);
+        }
+        // Slip: a slowly varying relative error between wheel and ground.
+        if self.noise == Noise::Realistic && self.t_us.is_multiple_of(100_000) {
+            self.slip = [
+                c.slip_sd * gauss(&mut self.rng),
+                c.slip_sd * gauss(&mut self.rng),
+            ];
+        }
+        let vg = [
+            self.wheel_v[0] * (1.0 + self.slip[0]),
+            self.wheel_v[1] * (1.0 + self.slip[1]),
+        ];
+        let v = 0.5 * (vg[0] + vg[1]);
+        let w = (vg[1] - vg[0]) / c.wheelbase_m;
+        let (x, y, th) = self.pose;
+        let (nx, ny, nth) = if w.abs() < 1e-9 {
+            (x + v * dt * th.cos(), y + v * dt * th.sin(), th)
+        } else {
+            let r = v / w;
+            let t2 = th + w * dt;
+            (
+                x + r * (t2.sin() - th.sin()),
+                y - r * (t2.cos() - th.cos()),
+                t2,
+            )
+        };
+        let r = c.diameter_m / 2.0;
+        let hits_person = |px: f64, py: f64| {
+            self.world
+                .people
+                .iter()
+                .any(|p| (p.pos.0 - px).hypot(p.pos.1 - py) < p.radius_m + r)
+        };
+        let blocked = self.world.disc_hits_wall(nx, ny, r) || hits_person(nx, ny);
+        let moving = (nx - x).hypot(ny - y) > 1e-9;
+        if blocked && moving {
+            // The body cannot move into it: it stops, the wheels stall.
+            if !self.in_contact {
+                self.collisions.push(Collision {
+                    t_s: self.t_us as f64 * 1e-6,
+                    pos: (x, y),
+                    by_person: false,
+                });
+            }
+            self.in_contact = true;
+            self.wheel_v = [0.0; 2];
+            self.pose.2 = nth; // turning in place stays possible
+            if self.world.disc_hits_wall(x, y, r) {
+                self.pose.2 = th;
+            }
+        } else {
+            if !moving && hits_person(x, y) && !self.in_contact {
+                self.collisions.push(Collision {
+                    t_s: self.t_us as f64 * 1e-6,
+                    pos: (x, y),
+                    by_person: true,
+                });
+                self.in_contact = true;
+            } else if self.in_contact {
+                // Contact ends once the body is 5 mm clear of everything.
+                let (px, py) = (nx, ny);
+                let near_person = self
+                    .world
+                    .people
+                    .iter()
+                    .any(|p| (p.pos.0 - px).hypot(p.pos.1 - py) < p.radius_m + r + 0.005);
+                if !near_person && !self.world.disc_hits_wall(px, py, r + 0.005) {
+                    self.in_contact = false;
+                }
+            }
+            self.distance_m += (nx - x).hypot(ny - y);
+            self.pose = (nx, ny, nth);
+        }
+        // Encoders count wheel rotation (slip is invisible to them).
+        let per_m = c.ticks_per_rev as f64 / (std::f64::consts::PI * c.wheel_diameter_m);
+        for i in 0..2 {
+            self.ticks[i] += self.wheel_v[i] * dt * per_m;
+        }
+        self.world.step_people(dt);
+        self.step_lidar(dt);
+        self.t_us += self.cfg.physics_step_us;
+        if self.t_us.is_multiple_of(10_000) {
+            self.trajectory.push((self.pose.0, self.pose.1));
+            if self.t_us.is_multiple_of(100_000) {
+                for p in &mut self.world.people {
+                    p.track.push(p.pos);
+                }
+            }
+        }
+    }
+
+    fn step_lidar(&mut self, dt: f64) {
+        let c = &self.cfg;
+        self.sample_acc += c.lidar_samples_per_s * dt;
+        let deg_per_sample = 360.0 * c.lidar_hz / c.lidar_samples_per_s;
+        while self.sample_acc >= 1.0 {
+            self.sample_acc -= 1.0;
+            let bearing = self.lidar_angle_deg; // clockwise from forward, as the LD06
+            self.lidar_angle_deg = (self.lidar_angle_deg + deg_per_sample) % 360.0;
+            let a = self.pose.2 - bearing.to_radians();
+            let (lo, hi) = self.cfg.lidar_range_m;
+            let mut d = self.world.ray(self.pose.0, self.pose.1, a, hi);
+            if self.noise == Noise::Realistic {
+                let u = (self.rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+                if u < self.cfg.lidar_dropout {
+                    d = None;
+                } else if let Some(v) = d.as_mut() {
+                    *v += self.cfg.lidar_noise_m * gauss(&mut self.rng);
+                }
+            }
+            let mm = match d {
+                Some(v) if v >= lo && v <= hi => (v * 1000.0).round().clamp(0.0, 65535.0) as u16,
+                _ => 0,
+            };
+            let cdeg = ((bearing * 100.0).round() as u32 % 36000) as u16;
+            self.samples.push((cdeg, mm, if mm > 0 { 200 } else { 0 }));
+            if self.samples.len() == 12 {
+                self.emit_frame();
+            }
+        }
+    }
+
+    fn emit_frame(&mut self) {
+        let s = std::mem::take(&mut self.samples);
+        let start = s[0].0;
+        let end = s[11].0;
+        let pts: [(u16, u8); 12] = std::array::from_fn(|i| (s[i].1, s[i].2));
+        let speed = (360.0 * self.cfg.lidar_hz).round() as u16;
+        let ts = ((self.t_us / 1000) % 30_000) as u16;
+        let frame = ld06::encode(speed, start, end, ts, &pts);
+        let byte_us = 10.0 * 1e6 / self.cfg.baud as f64;
+        for b in frame {
+            let u = (self.rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+            if u < self.corruption.drop {
+                continue;
+            }
+            let mut b = b;
+            if u < self.corruption.drop + self.corruption.flip {
+                b ^= 1 << self.rng.below(8);
+            }
+            self.uart_free_us = self.uart_free_us.max(self.t_us as f64) + byte_us;
+            self.uart.push_back((self.uart_free_us as u64, b));
+            if let Some(c) = self.capture.as_mut() {
+                c.push(b);
+            }
+        }
+    }
+
+    /// The raw encoder counter of a wheel (0 left, 1 right), as hardware
+    /// would show it: quantised, wrapping at 16 bits.
+    pub fn encoder(&self, i: usize) -> u16 {
+        (self.ticks[i].floor() as i64).rem_euclid(65536) as u16
+    }
+}
+
+impl MotorDriver for Sim {
+    fn set_duty(&mut self, left_pm: i16, right_pm: i16) {
+        self.braking = false;
+        self.duty = [
+            left_pm.clamp(-1000, 1000) as f64 / 1000.0,
+            right_pm.clamp(-1000, 1000) as f64 / 1000.0,
+        ];
+    }
+    fn brake(&mut self) {
+        self.braking = true;
+        self.duty = [0.0; 2];
+    }
+    fn coast(&mut self) {
+        self.braking = false;
+        self.duty = [0.0; 2];
+    }
+}
+
+/// One wheel's encoder, read through the core's trait.
+pub struct SimEncoder<'a> {
+    /// The robot.
+    pub sim: &'a Sim,
+    /// 0 left, 1 right.
+    pub wheel: usize,
+}
+
+impl QuadratureEncoder for SimEncoder<'_> {
+    fn count(&mut self) -> u16 {
+        self.sim.encoder(self.wheel)
+    }
+}
+
+impl ByteSource for Sim {
+    fn read(&mut self, buf: &mut [u8]) -> usize {
+        let mut n = 0;
+        while n < buf.len() {
+            match self.uart.front() {
+                Some(&(t, b)) if t <= self.t_us => {
+                    buf[n] = b;
+                    n += 1;
+                    self.uart.pop_front();
+                }
+                _ => break,
+            }
+        }
+        n
+    }
+}
+
+impl Clock for Sim {
+    fn now_us(&mut self) -> u64 {
+        self.t_us
+    }
+}

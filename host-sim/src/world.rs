@@ -1,0 +1,239 @@
+//! The simulated world: the ground-truth floor (from any map format, in
+//! metres), people walking loops, and ray casting against both.
+//!
+//! World frame: metres, x east, y north, origin at the map's bottom-left
+//! corner (the same frame as the core's evidence map, in mm).
+
+use robovac::maps::SplitMix64;
+
+use crate::maps::MapData;
+
+/// A person: a disc walking a loop of waypoints.
+#[derive(Clone, Debug)]
+pub struct Person {
+    /// Centre, m.
+    pub pos: (f64, f64),
+    /// Radius, m (about 0.15: a 0.3 m disc).
+    pub radius_m: f64,
+    /// Walking speed, m/s.
+    pub speed_m_s: f64,
+    /// The loop.
+    pub waypoints: Vec<(f64, f64)>,
+    /// Index of the waypoint walked to.
+    pub next: usize,
+    /// The positions walked (for pictures).
+    pub track: Vec<(f64, f64)>,
+}
+
+/// The ground truth.
+pub struct World {
+    /// The floor plan.
+    pub map: MapData,
+    /// Metres per map cell.
+    pub cell_m: f64,
+    /// People.
+    pub people: Vec<Person>,
+}
+
+impl World {
+    /// A world from a map with `cell_m` metres per cell.
+    pub fn new(map: MapData, cell_m: f64) -> Self {
+        Self {
+            map,
+            cell_m,
+            people: Vec::new(),
+        }
+    }
+
+    /// Width and height in metres.
+    pub fn size_m(&self) -> (f64, f64) {
+        (
+            self.map.width as f64 * self.cell_m,
+            self.map.height as f64 * self.cell_m,
+        )
+    }
+
+    /// True when the world point is inside a blocked cell or off the map.
+    pub fn blocked_at(&self, x: f64, y: f64) -> bool {
+        let cx = (x / self.cell_m).floor();
+        let row = self.map.height as f64 - 1.0 - (y / self.cell_m).floor();
+        if cx < 0.0 || row < 0.0 {
+            return true;
+        }
+        self.map.is_blocked(cx as i32, row as i32)
+    }
+
+    /// True when a disc of radius `r` at (x, y) overlaps a wall.
+    pub fn disc_hits_wall(&self, x: f64, y: f64, r: f64) -> bool {
+        let c = self.cell_m;
+        let (x0, x1) = (((x - r) / c).floor() as i32, ((x + r) / c).floor() as i32);
+        let (y0, y1) = (((y - r) / c).floor() as i32, ((y + r) / c).floor() as i32);
+        for gy in y0..=y1 {
+            for gx in x0..=x1 {
+                let row = self.map.height as i32 - 1 - gy;
+                if !self.map.is_blocked(gx, row) {
+                    continue;
+                }
+                // nearest point of the cell square to the centre
+                let nx = x.clamp(gx as f64 * c, (gx + 1) as f64 * c);
+                let ny = y.clamp(gy as f64 * c, (gy + 1) as f64 * c);
+                if (nx - x).powi(2) + (ny - y).powi(2) < r * r {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+
+    /// Distance from (x, y) along heading `a` to the first wall or person,
+    /// up to `max` (None past it). Walls by an exact grid traversal.
+    pub fn ray(&self, x: f64, y: f64, a: f64, max: f64) -> Option<f64> {
+        let (dx, dy) = (a.cos(), a.sin());
+        let mut best = self.ray_walls(x, y, dx, dy, max);
+        for p in &self.people {
+            // ray–circle
+            let (ox, oy) = (x - p.pos.0, y - p.pos.1);
+            let b = ox * dx + oy * dy;
+            let c = ox * ox + oy * oy - p.radius_m * p.radius_m;
+            let disc = b * b - c;
+            if disc >= 0.0 {
+                let t = -b - disc.sqrt();
+                if t > 0.0 && best.is_none_or(|d| t < d) {
+                    best = Some(t);
+                }
+            }
+        }
+        best.filter(|d| *d <= max)
+    }
+
+    fn ray_walls(&self, x: f64, y: f64, dx: f64, dy: f64, max: f64) -> Option<f64> {
+        let c = self.cell_m;
+        let (mut gx, mut gy) = ((x / c).floor() as i64, (y / c).floor() as i64);
+        let step_x = if dx > 0.0 { 1 } else { -1 };
+        let step_y = if dy > 0.0 { 1 } else { -1 };
+        let t_delta_x = if dx != 0.0 {
+            c / dx.abs()
+        } else {
+            f64::INFINITY
+        };
+        let t_delta_y = if dy != 0.0 {
+            c / dy.abs()
+        } else {
+            f64::INFINITY
+        };
+        let next_x = if dx > 0.0 {
+            (gx + 1) as f64 * c
+        } else {
+            gx as f64 * c
+        };
+        let next_y = if dy > 0.0 {
+            (gy + 1) as f64 * c
+        } else {
+            gy as f64 * c
+        };
+        let mut t_max_x = if dx != 0.0 {
+            (next_x - x) / dx
+        } else {
+            f64::INFINITY
+        };
+        let mut t_max_y = if dy != 0.0 {
+            (next_y - y) / dy
+        } else {
+            f64::INFINITY
+        };
+        let mut t = 0.0;
+        while t <= max {
+            let row = self.map.height as i64 - 1 - gy;
+            if gx < 0 || row < 0 || gx >= self.map.width as i64 || row >= self.map.height as i64 {
+                return Some(t); // the map's edge is a wall
+            }
+            if self.map.is_blocked(gx as i32, row as i32) {
+                return Some(t);
+            }
+            if t_max_x < t_max_y {
+                t = t_max_x;
+                t_max_x += t_delta_x;
+                gx += step_x;
+            } else {
+                t = t_max_y;
+                t_max_y += t_delta_y;
+                gy += step_y;
+            }
+        }
+        None
+    }
+
+    /// Adds `n` people walking loops of 3–5 waypoints at 0.5–1.0 m/s, each
+    /// leg a straight line clear of walls by the person's radius.
+    pub fn add_people(&mut self, n: usize, rng: &mut SplitMix64) {
+        let (w, h) = self.size_m();
+        let r = 0.15;
+        for _ in 0..n {
+            let mut pts: Vec<(f64, f64)> = Vec::new();
+            let want = 3 + rng.below(3) as usize;
+            let mut tries = 0;
+            while pts.len() < want && tries < 5000 {
+                tries += 1;
+                let p = (
+                    rng.below(10_000) as f64 / 10_000.0 * w,
+                    rng.below(10_000) as f64 / 10_000.0 * h,
+                );
+                if self.disc_hits_wall(p.0, p.1, r + 0.05) {
+                    continue;
+                }
+                if let Some(&q) = pts.last() {
+                    if !self.segment_clear(q, p, r + 0.02) {
+                        continue;
+                    }
+                }
+                pts.push(p);
+            }
+            // close the loop only if the last leg is clear
+            while pts.len() > 1 && !self.segment_clear(pts[pts.len() - 1], pts[0], r + 0.02) {
+                pts.pop();
+            }
+            if pts.len() < 2 {
+                continue;
+            }
+            let speed = 0.5 + rng.below(501) as f64 / 1000.0;
+            self.people.push(Person {
+                pos: pts[0],
+                radius_m: r,
+                speed_m_s: speed,
+                waypoints: pts,
+                next: 1,
+                track: Vec::new(),
+            });
+        }
+    }
+
+    /// True when a disc of radius `r` can slide from `a` to `b`.
+    pub fn segment_clear(&self, a: (f64, f64), b: (f64, f64), r: f64) -> bool {
+        let n = (((b.0 - a.0).hypot(b.1 - a.1)) / (self.cell_m * 0.5))
+            .ceil()
+            .max(1.0) as usize;
+        (0..=n).all(|k| {
+            let t = k as f64 / n as f64;
+            !self.disc_hits_wall(a.0 + (b.0 - a.0) * t, a.1 + (b.1 - a.1) * t, r)
+        })
+    }
+
+    /// Moves the people by `dt` seconds.
+    pub fn step_people(&mut self, dt: f64) {
+        for p in &mut self.people {
+            let Some(&goal) = p.waypoints.get(p.next) else {
+                continue;
+            };
+            let (dx, dy) = (goal.0 - p.pos.0, goal.1 - p.pos.1);
+            let d = dx.hypot(dy);
+            let s = p.speed_m_s * dt;
+            if d <= s {
+                p.pos = goal;
+                p.next = (p.next + 1) % p.waypoints.len();
+            } else {
+                p.pos.0 += dx / d * s;
+                p.pos.1 += dy / d * s;
+            }
+        }
+    }
+}

@@ -1,0 +1,253 @@
+//! The physical twin: motors, encoders, collisions, the lidar's byte
+//! stream, and closed-loop drives measured against the truth.
+
+use host_sim::drive::{drive, parse_route, DriveOptions, Route};
+use host_sim::maps::MapData;
+use host_sim::robot::{Noise, RobotConfig, Sim};
+use host_sim::world::World;
+use robovac::hal::{ByteSource, MotorDriver};
+use robovac::lidar::ld06::Ld06;
+use robovac::lidar::LidarProtocol;
+
+fn room(w: u32, h: u32) -> MapData {
+    let mut blocked = vec![false; (w * h) as usize];
+    for y in 0..h {
+        for x in 0..w {
+            if x == 0 || y == 0 || x == w - 1 || y == h - 1 {
+                blocked[(y * w + x) as usize] = true;
+            }
+        }
+    }
+    MapData {
+        width: w,
+        height: h,
+        blocked,
+        cell_m: None,
+    }
+}
+
+fn studio() -> MapData {
+    let p = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../maps/flat/studio.txt");
+    host_sim::maps::load_map(&p, Default::default()).unwrap()
+}
+
+#[test]
+fn lidar_streams_ld06_at_the_baud_rate() {
+    let world = World::new(room(40, 40), 0.1);
+    let mut sim = Sim::new(
+        RobotConfig::default(),
+        world,
+        (2.0, 2.0, 0.3),
+        Noise::Realistic,
+        3,
+    );
+    let mut p = Ld06::new();
+    let mut buf = [0u8; 256];
+    let (mut bytes, mut frames, mut max_per_ms) = (0usize, 0usize, 0usize);
+    for _ in 0..2000 {
+        sim.step(); // 1 ms
+        let n = sim.read(&mut buf);
+        max_per_ms = max_per_ms.max(n);
+        bytes += n;
+        for &b in &buf[..n] {
+            if let Some(f) = p.feed(b) {
+                frames += 1;
+                assert_eq!(f.speed_dps, 3600);
+                // a 4 m room: every return within its diagonal
+                assert!(f.points().iter().all(|q| q.dist_mm < 3000));
+            }
+        }
+    }
+    // 2 s: 4500 samples/s in frames of 12 → 750 frames, 35 250 bytes, at
+    // most 23.04 bytes per ms at 230 400 baud.
+    assert!((740..=752).contains(&frames), "{frames} frames");
+    assert!(
+        bytes <= 2 * 23_040 && max_per_ms <= 24,
+        "{bytes} bytes, {max_per_ms} in one ms"
+    );
+    assert_eq!(p.stats().crc_failures, 0);
+}
+
+#[test]
+fn corrupted_bytes_are_caught() {
+    let world = World::new(room(40, 40), 0.1);
+    let mut sim = Sim::new(
+        RobotConfig::default(),
+        world,
+        (2.0, 2.0, 0.0),
+        Noise::None,
+        4,
+    );
+    sim.corruption.flip = 0.002;
+    let mut p = Ld06::new();
+    let mut buf = [0u8; 256];
+    let mut frames = 0;
+    for _ in 0..4000 {
+        sim.step();
+        let n = sim.read(&mut buf);
+        frames += buf[..n].iter().filter(|&&b| p.feed(b).is_some()).count();
+    }
+    let s = p.stats();
+    assert!(s.crc_failures > 50, "{s:?}");
+    // every frame hit by a flip is dropped; the rest decode
+    assert!(
+        frames + s.crc_failures as usize + s.rejected as usize >= 1490,
+        "{frames} {s:?}"
+    );
+}
+
+#[test]
+fn motors_dead_band_and_encoder_wrap() {
+    let world = World::new(room(200, 40), 0.1);
+    let mut sim = Sim::new(
+        RobotConfig::default(),
+        world,
+        (1.0, 2.0, 0.0),
+        Noise::None,
+        1,
+    );
+    sim.set_duty(30, 30); // below the 5 % dead band
+    for _ in 0..500 {
+        sim.step();
+    }
+    assert_eq!((sim.encoder(0), sim.encoder(1)), (0, 0));
+    sim.set_duty(-800, -800); // backwards: the counters wrap below zero
+    for _ in 0..300 {
+        sim.step();
+    }
+    assert!(
+        sim.encoder(0) > 60_000 && sim.pose.0 < 1.0,
+        "{} {:?}",
+        sim.encoder(0),
+        sim.pose
+    );
+    sim.brake();
+    for _ in 0..300 {
+        sim.step();
+    }
+    assert!(sim.wheel_speeds()[0].abs() < 1e-3);
+}
+
+#[test]
+fn driving_into_a_wall_is_a_collision_and_stops_the_body() {
+    let world = World::new(room(30, 30), 0.1);
+    let mut sim = Sim::new(
+        RobotConfig::default(),
+        world,
+        (1.5, 1.5, 0.0),
+        Noise::None,
+        1,
+    );
+    sim.set_duty(700, 700);
+    for _ in 0..6000 {
+        sim.step();
+    }
+    assert_eq!(sim.collisions.len(), 1);
+    // the body stops against the wall at x = 2.9 m (radius 0.165)
+    assert!(
+        sim.pose.0 <= 2.9 - 0.165 + 1e-9 && sim.pose.0 > 2.6,
+        "{:?}",
+        sim.pose
+    );
+}
+
+#[test]
+fn people_walk_and_are_seen() {
+    let mut world = World::new(room(60, 60), 0.1);
+    world.add_people(2, &mut robovac::maps::SplitMix64::new(9));
+    assert_eq!(world.people.len(), 2);
+    let p0 = world.people[0].pos;
+    for _ in 0..1000 {
+        world.step_people(0.01);
+    }
+    let p1 = world.people[0].pos;
+    assert!((p1.0 - p0.0).hypot(p1.1 - p0.1) > 0.1);
+    for p in &world.people {
+        assert!(!world.disc_hits_wall(p.pos.0, p.pos.1, p.radius_m));
+    }
+    // a ray toward a person stops at its edge
+    let q = world.people[0].pos;
+    let (ox, oy) = (q.0 - 1.0, q.1);
+    if !world.disc_hits_wall(ox, oy, 0.01) {
+        let d = world.ray(ox, oy, 0.0, 12.0).unwrap();
+        assert!((d - (1.0 - world.people[0].radius_m)).abs() < 1e-6, "{d}");
+    }
+}
+
+#[test]
+fn square_drive_odometry_and_mapping() {
+    let opts = |noise| DriveOptions {
+        map: studio(),
+        cell_m: 0.1,
+        route: Route::Square {
+            side_m: 1.0,
+            laps: 10,
+        },
+        noise,
+        seed: 1,
+        people: 0,
+        capture: false,
+        corrupt: 0.0,
+        evidence_mm: 50,
+    };
+    let (r, _) = drive(opts(Noise::None)).unwrap();
+    assert!(r.completed && r.collisions == 0);
+    assert!(
+        r.final_position_error_mm < 5.0 && r.final_heading_error_mrad < 2.0,
+        "{r:?}"
+    );
+    assert!(
+        r.map_correct_share > 0.97 && r.path_false_obstacle_rate < 0.005,
+        "{r:?}"
+    );
+    assert!((r.distance_m - 40.0).abs() < 1.0);
+    // deterministic
+    let (r2, _) = drive(opts(Noise::None)).unwrap();
+    assert_eq!(format!("{r:?}"), format!("{r2:?}"));
+    // realistic noise: it runs and the error is measured (it is larger)
+    let (n, _) = drive(opts(Noise::Realistic)).unwrap();
+    assert!(n.final_position_error_mm > r.final_position_error_mm);
+}
+
+#[test]
+fn tour_maps_the_studio() {
+    let route = std::fs::read_to_string(
+        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../maps/flat/studio_tour.txt"),
+    )
+    .unwrap();
+    let (r, t) = drive(DriveOptions {
+        map: studio(),
+        cell_m: 0.1,
+        route: Route::Points(parse_route(&route).unwrap()),
+        noise: Noise::None,
+        seed: 2,
+        people: 0,
+        capture: true,
+        corrupt: 0.0,
+        evidence_mm: 50,
+    })
+    .unwrap();
+    assert!(r.completed && r.collisions == 0, "{r:?}");
+    assert!(
+        r.map_correct_share > 0.98 && r.map_false_obstacle_share < 0.01,
+        "{r:?}"
+    );
+    assert_eq!(r.path_false_obstacle_rate, 0.0);
+    // The capture decodes to the frames the parser saw.
+    let mut p = Ld06::new();
+    let n = t
+        .capture
+        .unwrap()
+        .iter()
+        .filter(|&&b| p.feed(b).is_some())
+        .count();
+    assert!(n as u32 >= r.parser.frames);
+}
+
+#[test]
+fn route_files_are_checked() {
+    assert!(parse_route("0 0\n1 1\n").is_ok());
+    assert!(parse_route("0 0\n").is_err());
+    assert!(parse_route("0 0\n1 x\n").unwrap_err().contains("line 2"));
+    assert!(parse_route("0 0 0\n1 1\n").is_err());
+}
