@@ -128,11 +128,13 @@ impl<const N: usize> EvidenceMap<N> {
 
     /// The cell (column, row from the top) holding world point (x, y) mm.
     pub fn cell_of(&self, x_mm: i32, y_mm: i32) -> (i32, i32) {
-        let r = self.res_mm as i32;
-        (
-            x_mm.div_euclid(r),
-            self.height as i32 - 1 - y_mm.div_euclid(r),
-        )
+        // In i64 and clamped to ±2^30: no overflow for any pose, and the
+        // differences `trace` takes stay in range.
+        let r = self.res_mm.max(1) as i64;
+        let cx = (x_mm as i64).div_euclid(r);
+        let cy = self.height as i64 - 1 - (y_mm as i64).div_euclid(r);
+        let clamp = |v: i64| v.clamp(-(1 << 30), 1 << 30) as i32;
+        (clamp(cx), clamp(cy))
     }
 
     /// The evidence counter of a cell (0 off the map).

@@ -135,6 +135,10 @@ fn implausible_frames_are_rejected_and_counted() {
     let slow = encode(100, 0, 50, 0, &pts); // 100 °/s: too slow
     let wide = encode(3600, 0, 9000, 0, &pts); // 90° in one frame
     let bad_angle = encode(3600, 36500, 900, 0, &pts);
+    // Found by cargo fuzz: a start angle of 65535 underflowed the span
+    // (a panic in debug builds). Now it is rejected like any bad angle.
+    let (none, p2) = decode_all(&encode(3600, 65535, 0, 0, &pts));
+    assert!(none.is_empty() && p2.stats().rejected_span == 1);
     let (out, p) = decode_all(&[slow, wide, bad_angle].concat());
     assert!(out.is_empty());
     let s = p.stats();

@@ -95,3 +95,22 @@ fn scans_assemble_and_map_a_room() {
     assert!(g.is_free(7, 7) && g.is_free(2, 7));
     assert!(g.is_blocked(0, 7) && g.is_blocked(7, 0) && g.is_blocked(13, 7));
 }
+
+#[test]
+fn absurd_poses_do_not_panic() {
+    let mut m: Box<EvidenceMap<{ 10 * 10 }>> = Box::new(EvidenceMap::new());
+    m.reset(10, 10, 1).unwrap(); // 1 mm cells: the worst case for overflow
+    for &(a, b) in &[
+        (i32::MIN, i32::MAX),
+        (i32::MAX, i32::MIN),
+        (0, i32::MIN),
+        (i32::MAX, i32::MAX),
+    ] {
+        let _ = m.cell_of(a, b);
+        // A far-away beam: the walk is bounded and touches nothing on the map.
+        if a.unsigned_abs() < 1 << 28 && b.unsigned_abs() < 1 << 28 {
+            m.trace(a, b, 100, 100, true);
+        }
+    }
+    m.trace(100, 100, 100 + 5_000_000, 100, false);
+}

@@ -16,8 +16,8 @@ use crate::maps::MapData;
 use crate::robot::{Noise, RobotConfig, Sim, SimEncoder};
 use crate::world::World;
 
-/// Evidence cells on the host (up to 40 m × 40 m at 5 cm).
-pub const HOST_EVIDENCE: usize = 800 * 800;
+/// Evidence cells on the host (up to 75 m × 75 m at 5 cm).
+pub const HOST_EVIDENCE: usize = 1500 * 1500;
 /// Frames per revolution the scan assembler holds.
 pub const SCAN_FRAMES: usize = 64;
 /// The LD06 on our robot: at the centre, angles clockwise from forward.

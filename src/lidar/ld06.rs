@@ -147,9 +147,16 @@ impl Ld06 {
             self.stats.rejected_speed += 1;
             return Err(false);
         }
+        // Angles first: the span below needs both under 36000 (found by
+        // the fuzzer: a start of 65535 underflowed the subtraction).
+        if start >= 36000 || end >= 36000 {
+            self.stats.rejected += 1;
+            self.stats.rejected_span += 1;
+            return Err(false);
+        }
         let span = (end as u32 + 36000 - start as u32) % 36000;
         let max_span = speed as u32 * 100 * 11 / MIN_SAMPLE_RATE_HZ + 100;
-        if start >= 36000 || end >= 36000 || span == 0 || span > max_span {
+        if span == 0 || span > max_span {
             self.stats.rejected += 1;
             self.stats.rejected_span += 1;
             return Err(false);
