@@ -412,6 +412,38 @@ mod emu {
         );
     }
 
+    /// One DWA cycle on the recorded situation: the same command as on the
+    /// host, and its cost.
+    fn dwa_cycle(meter: &Meter) {
+        use robovac::dwa::{
+            plan, DwaResult, DEFAULT_PARAMS, RECORDED_COMMAND, RECORDED_GOAL, RECORDED_OBSTACLES,
+            RECORDED_VELOCITY, V_SAMPLES, W_SAMPLES,
+        };
+        let (r, insn) = meter.measure(|| {
+            plan(
+                &DEFAULT_PARAMS,
+                RECORDED_VELOCITY.0,
+                RECORDED_VELOCITY.1,
+                RECORDED_GOAL,
+                &RECORDED_OBSTACLES,
+            )
+        });
+        match r {
+            DwaResult::Command {
+                v_mm_s, w_mrad_s, ..
+            } if (v_mm_s, w_mrad_s) == RECORDED_COMMAND => {}
+            _ => fail("DWA command differs from the host's"),
+        }
+        defmt::println!(
+            "DWA: one cycle ({} samples x 20 steps x {} obstacle points) in {} instructions; command ({} mm/s, {} mrad/s)",
+            V_SAMPLES * W_SAMPLES,
+            RECORDED_OBSTACLES.len(),
+            insn,
+            RECORDED_COMMAND.0,
+            RECORDED_COMMAND.1
+        );
+    }
+
     fn first_free(g: &BenchGrid) -> Option<Cell> {
         (0..g.cells())
             .map(|i| g.cell_at(i))
@@ -701,6 +733,7 @@ mod emu {
             );
         }
         lidar_and_odometry(&meter, EVID, ASM, SCAN);
+        dwa_cycle(&meter);
         defmt::println!(
             "memory: planner 100x50 {} bytes; at 128x128 search state {} bytes, planner {} bytes, grid {} bytes (asserted at compile time)",
             core::mem::size_of::<BenchCoverage>(),

@@ -29,6 +29,7 @@ pub mod capacity;
 pub mod check;
 pub mod cost;
 pub mod coverage;
+pub mod dwa;
 pub mod grid;
 pub mod hal;
 pub mod lidar;
