@@ -30,6 +30,7 @@ pub mod check;
 pub mod cost;
 pub mod coverage;
 pub mod dwa;
+pub mod follow;
 pub mod grid;
 pub mod hal;
 pub mod lidar;

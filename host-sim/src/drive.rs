@@ -4,6 +4,7 @@
 
 use std::fmt::Write as _;
 
+use robovac::follow::{follow, FollowCmd, SubPaths, DEFAULT_FOLLOW};
 use robovac::hal::{ByteSource, MotorDriver, QuadratureEncoder};
 use robovac::lidar::ld06::Ld06;
 use robovac::lidar::scan::{Scan, ScanAssembler};
@@ -43,6 +44,43 @@ pub enum Route {
     },
     /// Waypoints in metres; the robot starts at the first, facing the second.
     Points(Vec<(f64, f64)>),
+    /// A complete coverage plan of the known map by this planner, on
+    /// robot-sized cells (a cell is free where the body fits at its centre).
+    Plan(robovac::coverage::PlannerKind),
+}
+
+/// Planner cell side for drives of coverage plans, m.
+pub const PLAN_CELL_M: f64 = 0.3;
+
+/// The planner's grid of a world: cells of `PLAN_CELL_M`, free where a
+/// disc of `radius_m` at the cell centre touches no wall. Row 0 is the top.
+pub fn planner_map(world: &World, radius_m: f64) -> MapData {
+    let (wm, hm) = world.size_m();
+    let (w, h) = (
+        (wm / PLAN_CELL_M).floor() as u32,
+        (hm / PLAN_CELL_M).floor() as u32,
+    );
+    let mut blocked = Vec::with_capacity((w * h) as usize);
+    for gy in 0..h {
+        for gx in 0..w {
+            let (x, y) = cell_centre_m(gx, gy, hm);
+            blocked.push(world.disc_hits_wall(x, y, radius_m));
+        }
+    }
+    MapData {
+        width: w,
+        height: h,
+        blocked,
+        cell_m: Some(PLAN_CELL_M),
+    }
+}
+
+/// World position (m) of a planner cell's centre; `hm` the world's height.
+pub fn cell_centre_m(gx: u32, gy: u32, hm: f64) -> (f64, f64) {
+    (
+        (gx as f64 + 0.5) * PLAN_CELL_M,
+        hm - (gy as f64 + 0.5) * PLAN_CELL_M,
+    )
 }
 
 /// Parses a route file: one `x y` pair (metres) per line, `#` comments.
@@ -105,6 +143,10 @@ pub struct DriveReport {
     pub completed: bool,
     /// Waypoints given up after a minute without reaching them.
     pub skipped_waypoints: usize,
+    /// Share of the reachable floor the body swept.
+    pub floor_coverage: f64,
+    /// Waypoints driven.
+    pub waypoints: usize,
 }
 
 /// Trajectories and map for pictures.
@@ -190,7 +232,19 @@ pub fn drive(opts: DriveOptions) -> Result<(DriveReport, DriveTrace), String> {
             v
         }
         Route::Points(p) => p.clone(),
+        Route::Plan(kind) => {
+            let pm = planner_map(&world, r + 0.01);
+            let plan = crate::plan::plan(&pm, *kind, None)?;
+            let hm = world.size_m().1;
+            plan.waypoints
+                .iter()
+                .map(|c| cell_centre_m(c.x as u32, c.y as u32, hm))
+                .collect()
+        }
     };
+    if waypoints.len() < 2 {
+        return Err("the route has fewer than two waypoints".into());
+    }
     let start = waypoints[0];
     if world.disc_hits_wall(start.0, start.1, r) {
         return Err(format!(
@@ -237,13 +291,17 @@ pub fn drive(opts: DriveOptions) -> Result<(DriveReport, DriveTrace), String> {
     let mut last_ticks = [sim.encoder(0), sim.encoder(1)];
     odom.update(last_ticks[0], last_ticks[1]);
     let mut prev_delta = [0i32; 2];
-    let mut target = 1usize;
     let mut rep = DriveReport::default();
     let mut odom_track = Vec::new();
     let max_time_us = 3_600_000_000u64;
     let mut buf = [0u8; 512];
     let mut settle = 0u32;
     let mut waypoint_since_us = 0u64;
+    let mut floor = crate::floor::Floor::new(&sim.world, start, r, 0.05);
+    let mm = |p: (f64, f64)| ((p.0 * 1000.0).round() as i32, (p.1 * 1000.0).round() as i32);
+    let mut queue: Box<SubPaths<64>> = Box::new(SubPaths::new());
+    queue.reset(mm(start));
+    let mut next_wp = 1usize;
     while sim.t_us < max_time_us {
         for _ in 0..(cfg.control_period_us / cfg.physics_step_us) {
             sim.step();
@@ -271,43 +329,41 @@ pub fn drive(opts: DriveOptions) -> Result<(DriveReport, DriveTrace), String> {
             [0, 1].map(|i| ((d[i] + prev_delta[i]) as i64 * um_per_tick * 1000 / (2 * per)) as i32);
         prev_delta = d;
         // Route following on the odometry estimate.
-        let (px, py, pth) = (
-            pose.x_mm as f64 / 1000.0,
-            pose.y_mm as f64 / 1000.0,
-            pose.theta_mrad as f64 / 1000.0,
-        );
+        let (px, py) = (pose.x_mm as f64 / 1000.0, pose.y_mm as f64 / 1000.0);
         odom_track.push((px, py));
-        let (v_cmd, w_cmd) = if let Some(&goal) = waypoints.get(target) {
-            let (dx, dy) = (goal.0 - px, goal.1 - py);
-            let dist = dx.hypot(dy);
-            if sim.t_us - waypoint_since_us > 60_000_000 {
-                // Not reached in a minute (blocked): give up on this point.
-                rep.skipped_waypoints += 1;
-                target += 1;
-                waypoint_since_us = sim.t_us;
-                (0.0, 0.0)
-            } else if dist < 0.01 {
-                target += 1;
-                waypoint_since_us = sim.t_us;
-                (0.0, 0.0)
-            } else {
-                let e = wrap(dy.atan2(dx) - pth);
-                if e.abs() > 0.08 {
-                    (0.0, (3.0 * e).clamp(-1.5, 1.5))
+        // The core's follower on straight sub-paths merged from the route.
+        while queue.len() < 60 && next_wp < waypoints.len() {
+            queue.push(mm(waypoints[next_wp]), true);
+            next_wp += 1;
+        }
+        let (v_cmd, w_cmd) = match queue.front() {
+            Some((seg, _)) => {
+                if sim.t_us - waypoint_since_us > 60_000_000 {
+                    // Not reached in a minute (blocked): give up on it.
+                    rep.skipped_waypoints += 1;
+                    queue.pop();
+                    waypoint_since_us = sim.t_us;
+                    (0, 0)
                 } else {
-                    (
-                        (0.8 * dist + 0.04).min(cfg.clean_speed_m_s),
-                        (3.0 * e).clamp(-1.0, 1.0),
-                    )
+                    match follow(&DEFAULT_FOLLOW, &seg, &pose) {
+                        FollowCmd::Arrived => {
+                            queue.pop();
+                            waypoint_since_us = sim.t_us;
+                            (0, 0)
+                        }
+                        FollowCmd::Drive { v_mm_s, w_mrad_s } => (v_mm_s, w_mrad_s),
+                    }
                 }
             }
-        } else {
-            settle += 1;
-            (0.0, 0.0)
+            None => {
+                settle += 1;
+                (0, 0)
+            }
         };
+        floor.sweep(sim.pose.0, sim.pose.1);
         let (dl, dr) = wheels.step(
-            (v_cmd * 1000.0) as i32,
-            (w_cmd * 1000.0) as i32,
+            v_cmd,
+            w_cmd,
             meas[0],
             meas[1],
             d[0] != 0,
@@ -340,7 +396,9 @@ pub fn drive(opts: DriveOptions) -> Result<(DriveReport, DriveTrace), String> {
             break;
         }
     }
-    rep.completed = target >= waypoints.len() && rep.skipped_waypoints == 0;
+    rep.completed = queue.is_empty() && next_wp >= waypoints.len() && rep.skipped_waypoints == 0;
+    rep.floor_coverage = floor.coverage();
+    rep.waypoints = waypoints.len();
     let pose = odom.pose();
     rep.sim_time_s = sim.t_us as f64 * 1e-6;
     rep.distance_m = sim.distance_m;

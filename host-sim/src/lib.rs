@@ -5,6 +5,7 @@
 pub mod bench;
 pub mod demo;
 pub mod drive;
+pub mod floor;
 pub mod maps;
 pub mod metrics;
 pub mod plan;

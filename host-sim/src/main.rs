@@ -140,7 +140,8 @@ enum Cmd {
     Drive {
         #[command(flatten)]
         map: MapArgs,
-        /// A route file (`x y` metres per line) or `square` (1 m, 10 laps).
+        /// A route file (`x y` metres per line), `square` (1 m, 10 laps), or
+        /// `plan:PLANNER` (a complete coverage plan of the map).
         #[arg(long)]
         route: String,
         #[arg(long, default_value_t = 1)]
@@ -792,6 +793,11 @@ fn cmd_drive(
             side_m: 1.0,
             laps: 10,
         }
+    } else if let Some(name) = route.strip_prefix("plan:") {
+        Route::Plan(
+            host_sim::plan::planner_by_name(name)
+                .ok_or_else(|| format!("unknown planner {name:?} in --route plan:NAME"))?,
+        )
     } else {
         let text =
             std::fs::read_to_string(route).map_err(|e| format!("{route}: cannot read: {e}"))?;
@@ -829,6 +835,8 @@ fn cmd_drive(
             "max_position_error_mm": rep.max_position_error_mm,
         },
         "collisions": rep.collisions,
+        "floor_coverage": rep.floor_coverage,
+        "waypoints": rep.waypoints,
         "lidar": {"frames": rep.parser.frames, "crc_failures": rep.parser.crc_failures, "rejected": rep.parser.rejected, "scans": rep.scans},
         "map": {
             "cells_seen": rep.map_cells_seen,
@@ -849,6 +857,11 @@ fn cmd_drive(
     println!(
         "  odometry error at the end: {:.1} mm, {:.2} mrad (max during the run {:.1} mm)",
         rep.final_position_error_mm, rep.final_heading_error_mrad, rep.max_position_error_mm
+    );
+    println!(
+        "  floor swept: {:.2} % of the reachable floor ({} waypoints)",
+        100.0 * rep.floor_coverage,
+        rep.waypoints
     );
     println!(
         "  collisions: {}; lidar frames {} (CRC failures {}, rejected {}), scans {}",
