@@ -703,35 +703,7 @@ pub fn nearest_k(points: &[Cell], from: Cell, out: &mut [Cell], k: usize) -> usi
         let (dx, dy) = (c.x as i64 - from.x as i64, c.y as i64 - from.y as i64);
         dx * dx + dy * dy
     };
-    let mut n = 0usize;
-    for p in points {
-        let dp = d2(p);
-        // insertion into the sorted prefix out[..n]
-        let mut pos = n;
-        while pos > 0 && out.get(pos - 1).is_some_and(|q| d2(q) > dp) {
-            pos -= 1;
-        }
-        if pos >= k {
-            continue;
-        }
-        let end = if n < k { n } else { k - 1 };
-        let mut j = end;
-        while j > pos {
-            if let Some(&prev) = out.get(j - 1) {
-                if let Some(slot) = out.get_mut(j) {
-                    *slot = prev;
-                }
-            }
-            j -= 1;
-        }
-        if let Some(slot) = out.get_mut(pos) {
-            *slot = *p;
-        }
-        if n < k {
-            n += 1;
-        }
-    }
-    n
+    crate::select::smallest_k(points, out.get_mut(..k).unwrap_or(&mut []), d2)
 }
 
 /// True when (x, y) is on the map, free and not yet covered.

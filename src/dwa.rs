@@ -278,36 +278,9 @@ pub fn plan(
 /// Keeps the `out.len()` obstacle points nearest to the robot from
 /// `points` (robot frame, mm), nearest first; returns how many.
 pub fn nearest_obstacles(points: &[PointMm], out: &mut [PointMm]) -> usize {
-    let d2 = |p: &PointMm| p.0 as i64 * p.0 as i64 + p.1 as i64 * p.1 as i64;
-    let cap = out.len();
-    let mut n = 0usize;
-    for p in points {
-        let dp = d2(p);
-        let mut pos = n;
-        while pos > 0 && out.get(pos - 1).is_some_and(|q| d2(q) > dp) {
-            pos -= 1;
-        }
-        if pos >= cap {
-            continue;
-        }
-        let end = if n < cap { n } else { cap - 1 };
-        let mut j = end;
-        while j > pos {
-            if let Some(prev) = out.get(j - 1).copied() {
-                if let Some(slot) = out.get_mut(j) {
-                    *slot = prev;
-                }
-            }
-            j -= 1;
-        }
-        if let Some(slot) = out.get_mut(pos) {
-            *slot = *p;
-        }
-        if n < cap {
-            n += 1;
-        }
-    }
-    n
+    crate::select::smallest_k(points, out, |p| {
+        p.0 as i64 * p.0 as i64 + p.1 as i64 * p.1 as i64
+    })
 }
 
 /// A recorded situation (robot frame): driving at 0.3 m/s toward a goal

@@ -43,6 +43,7 @@ pub mod oha;
 pub mod open_list;
 pub mod prune;
 pub mod search;
+pub mod select;
 pub mod theta_star;
 pub mod wheel_control;
 

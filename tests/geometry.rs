@@ -144,3 +144,16 @@ fn memory_sizes() {
     // 8 bytes a cell + 2 bits a cell + 12 bytes an open entry, + fixed part.
     assert_eq!(search_state_bytes(REF128_CELLS, REF128_OPEN), 184_320);
 }
+
+proptest! {
+    /// smallest_k agrees with sorting (stable) and truncating.
+    #[test]
+    fn smallest_k_is_a_stable_partial_sort(v in prop::collection::vec(-50i64..50, 0..40), k in 0usize..12) {
+        let mut out = vec![0i64; k];
+        let n = robovac::select::smallest_k(&v, &mut out, |x| *x);
+        let mut sorted = v.clone();
+        sorted.sort();
+        sorted.truncate(k);
+        prop_assert_eq!(&out[..n], &sorted[..]);
+    }
+}
