@@ -35,23 +35,17 @@ pub fn priority<const GW: usize>(grid: &Grid<GW>) -> [(i32, i32); 4] {
     }
 }
 
-/// Pushes every uncovered free 8-neighbour of the robot's cell.
-pub(crate) fn push_neighbours<
-    const N: usize,
-    const NW: usize,
-    const OPEN: usize,
-    const LCAP: usize,
-    const PCAP: usize,
-    const GW: usize,
->(
-    p: &mut Coverage<N, NW, OPEN, LCAP, PCAP>,
-    grid: &Grid<GW>,
-) {
-    let (x, y) = p.cur.xy();
-    for (dx, dy) in NEIGHBOURS {
-        if uncovered(grid, x + dx, y + dy) {
-            if let Some(c) = Cell::from_xy(x + dx, y + dy) {
-                p.push_point(grid, c);
+impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, const PCAP: usize>
+    Coverage<N, NW, OPEN, LCAP, PCAP>
+{
+    /// Pushes every uncovered free 8-neighbour of the robot's cell.
+    pub(crate) fn b_oha_push_neighbours<const GW: usize>(&mut self, grid: &Grid<GW>) {
+        let (x, y) = self.cur.xy();
+        for (dx, dy) in NEIGHBOURS {
+            if uncovered(grid, x + dx, y + dy) {
+                if let Some(c) = Cell::from_xy(x + dx, y + dy) {
+                    self.push_point(grid, c);
+                }
             }
         }
     }
@@ -64,20 +58,14 @@ pub fn is_corner<const GW: usize>(grid: &Grid<GW>, x: i32, y: i32) -> bool {
     !((u(0, -1) && u(0, 1)) || (u(1, 0) && u(-1, 0)))
 }
 
-/// The pruning at a critical point.
-pub(crate) fn prune_list<
-    const N: usize,
-    const NW: usize,
-    const OPEN: usize,
-    const LCAP: usize,
-    const PCAP: usize,
-    const GW: usize,
->(
-    p: &mut Coverage<N, NW, OPEN, LCAP, PCAP>,
-    grid: &Grid<GW>,
-) {
-    p.retain(grid, |g, c| {
-        let (x, y) = c.xy();
-        uncovered(g, x, y) && is_corner(g, x, y)
-    });
+impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, const PCAP: usize>
+    Coverage<N, NW, OPEN, LCAP, PCAP>
+{
+    /// The pruning at a critical point.
+    pub(crate) fn b_oha_prune_list<const GW: usize>(&mut self, grid: &Grid<GW>) {
+        self.retain(grid, |g, c| {
+            let (x, y) = c.xy();
+            uncovered(g, x, y) && is_corner(g, x, y)
+        });
+    }
 }

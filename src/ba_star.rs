@@ -34,24 +34,18 @@ pub fn b<const GW: usize>(grid: &Grid<GW>, x: i32, y: i32) -> u32 {
     mu(s1, s8) + mu(s1, s2) + mu(s5, s6) + mu(s5, s4) + mu(s7, s6) + mu(s7, s8)
 }
 
-/// Rebuilds the list from every covered cell with b(s) ≥ 1.
-pub(crate) fn rebuild_list<
-    const N: usize,
-    const NW: usize,
-    const OPEN: usize,
-    const LCAP: usize,
-    const PCAP: usize,
-    const GW: usize,
->(
-    p: &mut Coverage<N, NW, OPEN, LCAP, PCAP>,
-    grid: &Grid<GW>,
-) {
-    p.retain(grid, |_, _| false);
-    for y in 0..grid.height() as i32 {
-        for x in 0..grid.width() as i32 {
-            if grid.is_free(x, y) && grid.get(Layer::Covered, x, y) && b(grid, x, y) > 0 {
-                if let Some(c) = Cell::from_xy(x, y) {
-                    p.push_point(grid, c);
+impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, const PCAP: usize>
+    Coverage<N, NW, OPEN, LCAP, PCAP>
+{
+    /// Rebuilds the list from every covered cell with b(s) ≥ 1.
+    pub(crate) fn ba_rebuild_list<const GW: usize>(&mut self, grid: &Grid<GW>) {
+        self.retain(grid, |_, _| false);
+        for y in 0..grid.height() as i32 {
+            for x in 0..grid.width() as i32 {
+                if grid.is_free(x, y) && grid.get(Layer::Covered, x, y) && b(grid, x, y) > 0 {
+                    if let Some(c) = Cell::from_xy(x, y) {
+                        self.push_point(grid, c);
+                    }
                 }
             }
         }

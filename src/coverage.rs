@@ -398,10 +398,8 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
                     self.phase = Phase::Critical;
                     self.stats.critical_points += 1;
                     match self.kind {
-                        PlannerKind::BOha | PlannerKind::BOhaPc => b_oha::prune_list(self, grid),
-                        PlannerKind::BaStar | PlannerKind::BTheta => {
-                            ba_star::rebuild_list(self, grid)
-                        }
+                        PlannerKind::BOha | PlannerKind::BOhaPc => self.b_oha_prune_list(grid),
+                        PlannerKind::BaStar | PlannerKind::BTheta => self.ba_rebuild_list(grid),
                     }
                     self.stats.backtrack_points_kept += self.list.len() as u32;
                 }
@@ -565,7 +563,7 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
 
     fn on_arrive<const GW: usize>(&mut self, grid: &Grid<GW>) {
         if matches!(self.kind, PlannerKind::BOha | PlannerKind::BOhaPc) {
-            b_oha::push_neighbours(self, grid);
+            self.b_oha_push_neighbours(grid);
         }
     }
 
