@@ -317,6 +317,24 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
         self.list.as_slice()
     }
 
+    /// Takes up planning again after [`Step::Done`] (the caller cleared
+    /// the covered mark of cells it could not clean): the next step
+    /// rescans for uncovered cells. `cur` becomes `at`, where the robot
+    /// will be.
+    pub fn reopen(&mut self, at: Cell) {
+        if self.phase == Phase::Done {
+            self.phase = Phase::Critical;
+            self.cur = at;
+        }
+    }
+
+    /// Puts a cell back on the backtracking list (a cell the caller
+    /// un-covered because the robot could not clean it). False when the
+    /// list is full.
+    pub fn add_point<const GW: usize>(&mut self, grid: &Grid<GW>, c: Cell) -> bool {
+        self.push_point(grid, c)
+    }
+
     /// The robot's current cell as the planner sees it.
     pub fn position(&self) -> Cell {
         self.cur

@@ -198,6 +198,25 @@ impl<const CAP: usize> SubPaths<CAP> {
             .flatten()
     }
 
+    /// Replaces the current sub-path (rejoining it from elsewhere).
+    pub fn replace_front(&mut self, seg: SubPath) {
+        if self.len > 0 {
+            if let Some(slot) = self.items.get_mut(self.head) {
+                slot.0 = seg;
+            }
+        }
+    }
+
+    /// The end of the last queued sub-path (where the next one starts).
+    pub fn last_end(&self) -> Option<(i32, i32)> {
+        self.last_end
+    }
+
+    /// The queued sub-paths, current first, with their kinds.
+    pub fn iter(&self) -> impl Iterator<Item = (SubPath, bool)> + '_ {
+        (0..self.len).filter_map(move |k| self.items.get((self.head + k) % CAP.max(1)).copied())
+    }
+
     /// Drops the current sub-path.
     pub fn pop(&mut self) {
         if self.len > 0 {

@@ -21,6 +21,8 @@
 use crate::angle::sin_cos_q30;
 use crate::grid::{Grid, GridError};
 use crate::lidar::scan::Scan;
+use crate::lidar::LidarFrame;
+use crate::odometry::Pose;
 
 /// Evidence added by a beam ending in a cell.
 pub const HIT: i8 = 3;
@@ -145,6 +147,18 @@ impl<const N: usize> EvidenceMap<N> {
             .unwrap_or(0)
     }
 
+    /// Sets a cell to a definite state (a prior map): ±`LIMIT` evidence,
+    /// or 0 for unknown. Off the map: ignored.
+    pub fn set_state(&mut self, cx: i32, cy: i32, st: CellState) {
+        if let Some(c) = self.index(cx, cy).and_then(|i| self.counts.get_mut(i)) {
+            *c = match st {
+                CellState::Occupied => LIMIT,
+                CellState::Free => -LIMIT,
+                CellState::Unknown => 0,
+            };
+        }
+    }
+
     /// What the map says about a cell (off the map: unknown).
     pub fn state(&self, cx: i32, cy: i32) -> CellState {
         let e = self.evidence(cx, cy);
@@ -167,35 +181,14 @@ impl<const N: usize> EvidenceMap<N> {
     /// updated.
     pub fn integrate_scan<const F: usize>(&mut self, scan: &Scan<F>, mount: &LidarMount) -> u32 {
         let mut updated = 0u32;
+        // A return lies on the obstacle's face; half a cell further along
+        // the beam is inside it, so the hit lands in the obstacle's cell
+        // rather than the free one before it.
+        let past_hit = self.res_mm as i64 / 2;
         for (pose, frame) in scan.frames() {
-            // The lidar's position and heading in the world.
-            let th = pose.theta_mrad as i64 * 1000;
-            let (s, c) = sin_cos_q30(th);
-            let ox = pose.x_mm as i64
-                + ((mount.offset_x_mm as i64 * c - mount.offset_y_mm as i64 * s) >> 30);
-            let oy = pose.y_mm as i64
-                + ((mount.offset_x_mm as i64 * s + mount.offset_y_mm as i64 * c) >> 30);
-            for p in frame.points() {
-                if p.dist_mm == 0 || p.dist_mm < mount.min_range_mm {
-                    continue;
-                }
-                let (range, hit) = if p.dist_mm > mount.max_range_mm {
-                    (mount.max_range_mm as i64, false)
-                } else {
-                    (p.dist_mm as i64, true)
-                };
-                // Bearing in the lidar's angles → robot frame → world.
-                let b_urad = p.angle_cdeg as i64 * 174_533 / 1000 - mount.zero_mrad as i64 * 1000;
-                let rel = if mount.clockwise { -b_urad } else { b_urad };
-                let (bs, bc) = sin_cos_q30(th + rel);
-                // A return lies on the obstacle's face; half a cell further
-                // along the beam is inside it, so the hit lands in the
-                // obstacle's cell rather than the free one before it.
-                let reach = range + if hit { self.res_mm as i64 / 2 } else { 0 };
-                let hx = ox + ((reach * bc) >> 30);
-                let hy = oy + ((reach * bs) >> 30);
-                updated += self.trace(ox as i32, oy as i32, hx as i32, hy as i32, hit);
-            }
+            beams(pose, mount, frame, past_hit, |ox, oy, hx, hy, hit| {
+                updated += self.trace(ox, oy, hx, hy, hit);
+            });
         }
         updated
     }
@@ -288,5 +281,46 @@ impl<const N: usize> EvidenceMap<N> {
             }
         }
         Ok(())
+    }
+}
+
+/// Every usable beam of a frame taken at `pose`, in world mm: calls
+/// `f(origin_x, origin_y, end_x, end_y, hit)`. A return ends `past_hit_mm`
+/// beyond the measured range; a beam with no return within range ends at
+/// the longest range with `hit` false. Shared by the evidence map and the
+/// executive's obstacle points.
+pub fn beams(
+    pose: &Pose,
+    mount: &LidarMount,
+    frame: &LidarFrame,
+    past_hit_mm: i64,
+    mut f: impl FnMut(i32, i32, i32, i32, bool),
+) {
+    let th = pose.theta_mrad as i64 * 1000;
+    let (s, c) = sin_cos_q30(th);
+    let ox = pose.x_mm as i64 + ((mount.offset_x_mm as i64 * c - mount.offset_y_mm as i64 * s) >> 30);
+    let oy = pose.y_mm as i64 + ((mount.offset_x_mm as i64 * s + mount.offset_y_mm as i64 * c) >> 30);
+    for p in frame.points() {
+        if p.dist_mm == 0 || p.dist_mm < mount.min_range_mm {
+            continue;
+        }
+        let (range, hit) = if p.dist_mm > mount.max_range_mm {
+            (mount.max_range_mm as i64, false)
+        } else {
+            (p.dist_mm as i64, true)
+        };
+        // Bearing in the lidar's angles → robot frame → world.
+        let b_urad = p.angle_cdeg as i64 * 174_533 / 1000 - mount.zero_mrad as i64 * 1000;
+        let rel = if mount.clockwise { -b_urad } else { b_urad };
+        let (bs, bc) = sin_cos_q30(th + rel);
+        let reach = range + if hit { past_hit_mm } else { 0 };
+        let clamp = |v: i64| v.clamp(-(1 << 30), 1 << 30) as i32;
+        f(
+            clamp(ox),
+            clamp(oy),
+            clamp(ox + ((reach * bc) >> 30)),
+            clamp(oy + ((reach * bs) >> 30)),
+            hit,
+        );
     }
 }

@@ -4,9 +4,19 @@
 /// Copies into `out` the `out.len()` items of `items` with the smallest
 /// `key`, smallest first (ties keep input order); returns how many.
 pub fn smallest_k<T: Copy>(items: &[T], out: &mut [T], key: impl Fn(&T) -> i64) -> usize {
+    smallest_k_of(items.iter().copied(), out, key)
+}
+
+/// [`smallest_k`] over any sequence of items.
+pub fn smallest_k_of<T: Copy>(
+    items: impl Iterator<Item = T>,
+    out: &mut [T],
+    key: impl Fn(&T) -> i64,
+) -> usize {
     let cap = out.len();
     let mut n = 0usize;
     for it in items {
+        let it = &it;
         let k = key(it);
         let mut pos = n;
         while pos > 0 && out.get(pos - 1).is_some_and(|q| key(q) > k) {

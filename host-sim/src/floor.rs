@@ -127,6 +127,30 @@ impl Floor {
         hit as f64 / self.floor_cells.max(1) as f64
     }
 
+    /// Cell side, m, and the grid's width and height.
+    pub fn dims(&self) -> (f64, usize, usize) {
+        (self.res_m, self.w, self.h)
+    }
+
+    /// Reachable floor swept (true) or missed (false) at fine cell
+    /// (x, y from the bottom); None where there is no reachable floor.
+    pub fn state(&self, x: usize, y: usize) -> Option<bool> {
+        let i = y * self.w + x;
+        (x < self.w && self.floor.get(i).copied().unwrap_or(false))
+            .then(|| self.swept.get(i).copied().unwrap_or(false))
+    }
+
+    /// Reachable floor swept, m².
+    pub fn swept_area_m2(&self) -> f64 {
+        let hit = self
+            .floor
+            .iter()
+            .zip(&self.swept)
+            .filter(|(f, s)| **f && **s)
+            .count();
+        hit as f64 * self.res_m * self.res_m
+    }
+
     /// Cells (x, y in the fine grid, from the bottom) of reachable floor
     /// not swept, for pictures.
     pub fn missed(&self) -> Vec<(usize, usize)> {

@@ -8,6 +8,7 @@ pub mod drive;
 pub mod floor;
 pub mod maps;
 pub mod metrics;
+pub mod mission;
 pub mod plan;
 pub mod robot;
 pub mod scen;

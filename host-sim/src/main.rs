@@ -34,6 +34,12 @@ enum NoiseArg {
 }
 
 #[derive(Clone, Copy, ValueEnum)]
+enum ModeArg {
+    Known,
+    Unknown,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
 enum AlgoArg {
     Astar,
     Oha,
@@ -164,6 +170,39 @@ enum Cmd {
         #[arg(long, default_value_t = 0.0)]
         corrupt: f64,
     },
+    /// Run a whole cleaning mission: the core's executive in closed loop with the physics.
+    Mission {
+        #[command(flatten)]
+        map: MapArgs,
+        /// known (a prior map is given) or unknown (mapped while cleaning).
+        #[arg(long, value_enum, default_value = "known")]
+        mode: ModeArg,
+        /// People walking about.
+        #[arg(long, default_value_t = 0)]
+        people: usize,
+        #[arg(long, value_enum, default_value = "none")]
+        noise: NoiseArg,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Simulated time limit, seconds.
+        #[arg(long, default_value_t = 7200.0)]
+        max_time: f64,
+        /// The dock X,Y in metres (default: a free spot near the centre).
+        #[arg(long, value_parser = parse_point)]
+        start: Option<(f64, f64)>,
+        /// b-oha, ba, b-theta or b-oha-pc (ours).
+        #[arg(long, default_value = "b-oha")]
+        planner: String,
+        /// Silence the lidar from A to B seconds (A,B) to exercise the fault.
+        #[arg(long, value_parser = parse_point)]
+        lidar_gap: Option<(f64, f64)>,
+        /// Write the measurements as JSON.
+        #[arg(long)]
+        json: Option<PathBuf>,
+        /// Write a picture of the mission.
+        #[arg(long)]
+        svg: Option<PathBuf>,
+    },
     /// Benchmarks reproducing the papers' tables.
     Bench {
         #[command(subcommand)]
@@ -213,6 +252,20 @@ enum BenchCmd {
         #[arg(long)]
         svg_dir: Option<PathBuf>,
     },
+}
+
+fn parse_point(s: &str) -> Result<(f64, f64), String> {
+    let (x, y) = s
+        .split_once(',')
+        .ok_or_else(|| format!("{s:?} is not X,Y"))?;
+    let p = |v: &str| {
+        v.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|f| f.is_finite() && *f >= 0.0)
+            .ok_or_else(|| format!("{v:?} is not a non-negative number"))
+    };
+    Ok((p(x)?, p(y)?))
 }
 
 fn parse_cell(s: &str) -> Result<Cell, String> {
@@ -286,6 +339,42 @@ fn run(cli: Cli) -> Result<(), String> {
             capture.as_deref(),
             corrupt,
         ),
+        Cmd::Mission {
+            map,
+            mode,
+            people,
+            noise,
+            seed,
+            max_time,
+            start,
+            planner,
+            lidar_gap,
+            json,
+            svg,
+        } => {
+            let kind = host_sim::plan::planner_by_name(&planner)
+                .ok_or_else(|| format!("unknown planner {planner:?}"))?;
+            if !(max_time.is_finite() && max_time > 0.0) {
+                return Err("--max-time must be a positive number of seconds".into());
+            }
+            let (data, cell_m) = load_world_map(&map)?;
+            let opts = host_sim::mission::MissionOptions {
+                map: data,
+                cell_m,
+                mode: match mode {
+                    ModeArg::Known => robovac::mission::MapMode::Known,
+                    ModeArg::Unknown => robovac::mission::MapMode::Unknown,
+                },
+                people,
+                noise: noise.into(),
+                seed,
+                max_time_s: max_time,
+                start,
+                kind,
+                lidar_gap_s: lidar_gap,
+            };
+            cmd_mission(&opts, &map.map.display().to_string(), json.as_deref(), svg.as_deref())
+        }
         Cmd::Bench {
             which: BenchCmd::WheelStep { seed },
         } => {
@@ -886,6 +975,66 @@ fn cmd_drive(
     }
     if let (Some(f), Some(bytes)) = (capture, trace.capture.as_ref()) {
         std::fs::write(f, bytes).map_err(|e| format!("{}: cannot write: {e}", f.display()))?;
+    }
+    Ok(())
+}
+
+impl From<NoiseArg> for host_sim::robot::Noise {
+    fn from(n: NoiseArg) -> Self {
+        match n {
+            NoiseArg::None => host_sim::robot::Noise::None,
+            NoiseArg::Realistic => host_sim::robot::Noise::Realistic,
+        }
+    }
+}
+
+/// A floor for the simulated world: images keep their own resolution (PNG,
+/// PGM, ROS YAML); ASCII and MovingAI maps take --cell (default 0.1 m).
+fn load_world_map(args: &MapArgs) -> Result<(MapData, f64), String> {
+    let map = load_map(
+        &args.map,
+        LoadOptions {
+            cell_m: None,
+            png_resolution_m: args.resolution,
+        },
+    )
+    .map_err(|e| e.to_string())?;
+    let cell_m = map.cell_m.or(args.cell).unwrap_or(0.1);
+    if !(cell_m.is_finite() && cell_m > 0.0) {
+        return Err("--cell must be a positive number of metres".into());
+    }
+    Ok((map, cell_m))
+}
+
+/// Runs one mission with a progress line on a terminal.
+fn cmd_mission(
+    opts: &host_sim::mission::MissionOptions,
+    name: &str,
+    json: Option<&Path>,
+    svg: Option<&Path>,
+) -> Result<(), String> {
+    use host_sim::mission::{mission_svg, report_json, run_mission, summary};
+    let tty = std::io::stderr().is_terminal();
+    let (rep, trace, floor) = run_mission(opts, |t, state, cov| {
+        if tty {
+            eprint!("\r  {t:>6.0} s simulated · {state:?} · {:.1} % swept      ", 100.0 * cov);
+        }
+    })
+    .map_err(|e| format!("{name}: {e}"))?;
+    if tty {
+        eprintln!();
+    }
+    println!("mission on {name} ({:?} map, {} people, seed {}):", opts.mode, opts.people, opts.seed);
+    println!("  {}", summary(&rep));
+    if let Some(f) = json {
+        write_file(f, &report_json(&rep).to_string())?;
+    }
+    if let Some(f) = svg {
+        let title = format!(
+            "mission on {name}: {:?} map, {} people, noise {:?}, seed {}",
+            opts.mode, opts.people, opts.noise, opts.seed
+        );
+        write_file(f, &mission_svg(&opts.map, opts.cell_m, &floor, &trace, &rep, &title))?;
     }
     Ok(())
 }

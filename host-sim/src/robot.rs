@@ -121,7 +121,8 @@ pub struct Collision {
     pub t_s: f64,
     /// Where, m.
     pub pos: (f64, f64),
-    /// True when a person walked into the robot while it stood still.
+    /// True when a person walked into the robot (it stood still, or it
+    /// was not moving toward them).
     pub by_person: bool,
 }
 
@@ -280,23 +281,46 @@ impl Sim {
                 .iter()
                 .any(|p| (p.pos.0 - px).hypot(p.pos.1 - py) < p.radius_m + r)
         };
-        let blocked = self.world.disc_hits_wall(nx, ny, r) || hits_person(nx, ny);
+        // A person blocks a move that brings the body closer to them;
+        // moving away from someone touching the robot is possible.
+        let into_person = |px: f64, py: f64| {
+            self.world.people.iter().any(|p| {
+                let d1 = (p.pos.0 - px).hypot(p.pos.1 - py);
+                d1 < p.radius_m + r && d1 < (p.pos.0 - x).hypot(p.pos.1 - y)
+            })
+        };
+        let blocked = self.world.disc_hits_wall(nx, ny, r) || into_person(nx, ny);
         let moving = (nx - x).hypot(ny - y) > 1e-9;
         if blocked && moving {
             // The body cannot move into it: it stops, the wheels stall.
+            // It is the robot's doing when it drives into a wall, or into a
+            // person it was not already touching, toward them; a person who
+            // walked into the robot is theirs.
+            // Along the contact normal, the robot's approach speed is
+            // compared with the person's (who moved into whom).
+            let robot_into = self.world.disc_hits_wall(nx, ny, r)
+                || self.world.people.iter().any(|p| {
+                    let (ox, oy) = (p.pos.0 - x, p.pos.1 - y);
+                    let dist = ox.hypot(oy).max(1e-9);
+                    let (ux, uy) = (ox / dist, oy / dist);
+                    let robot_v = ((nx - x) * ux + (ny - y) * uy) / dt;
+                    let person_v = p.approach_speed(x, y);
+                    (p.pos.0 - nx).hypot(p.pos.1 - ny) < p.radius_m + r
+                        && robot_v > 0.005
+                        && robot_v >= person_v
+                });
             if !self.in_contact {
                 self.collisions.push(Collision {
                     t_s: self.t_us as f64 * 1e-6,
                     pos: (x, y),
-                    by_person: false,
+                    by_person: !robot_into,
                 });
             }
+            // Stopped dead: no motion, no turn, no encoder ticks (turning
+            // in place, a move of zero length, is never blocked).
             self.in_contact = true;
             self.wheel_v = [0.0; 2];
-            self.pose.2 = nth; // turning in place stays possible
-            if self.world.disc_hits_wall(x, y, r) {
-                self.pose.2 = th;
-            }
+            let _ = (nth, th);
         } else {
             if !moving && hits_person(x, y) && !self.in_contact {
                 self.collisions.push(Collision {
@@ -325,7 +349,8 @@ impl Sim {
         for i in 0..2 {
             self.ticks[i] += self.wheel_v[i] * dt * per_m;
         }
-        self.world.step_people(dt);
+        let body = (self.pose.0, self.pose.1, c.diameter_m / 2.0);
+        self.world.step_people_near(dt, Some(body));
         self.step_lidar(dt);
         self.t_us += self.cfg.physics_step_us;
         if self.t_us.is_multiple_of(10_000) {

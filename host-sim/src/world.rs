@@ -23,7 +23,24 @@ pub struct Person {
     pub next: usize,
     /// The positions walked (for pictures).
     pub track: Vec<(f64, f64)>,
+    /// How long they have waited for the robot, s.
+    pub waited_s: f64,
+    /// Velocity over the last step, m/s.
+    pub vel: (f64, f64),
 }
+
+impl Person {
+    /// Speed (m/s) at which the person walks toward point (x, y) now (0
+    /// when waiting or walking away).
+    pub fn approach_speed(&self, x: f64, y: f64) -> f64 {
+        let (ox, oy) = (x - self.pos.0, y - self.pos.1);
+        let o = ox.hypot(oy).max(1e-9);
+        (self.vel.0 * ox / o + self.vel.1 * oy / o).max(0.0)
+    }
+}
+
+/// How long a person waits for the robot to get out of their way, s.
+pub const PATIENCE_S: f64 = 4.0;
 
 /// The ground truth.
 pub struct World {
@@ -83,6 +100,27 @@ impl World {
             }
         }
         false
+    }
+
+    /// Distance from (x, y) to the nearest wall (blocked cell or the map's
+    /// edge), searched up to `max` (returns `max` when nothing is nearer).
+    pub fn wall_distance(&self, x: f64, y: f64, max: f64) -> f64 {
+        let c = self.cell_m;
+        let (x0, x1) = (((x - max) / c).floor() as i32, ((x + max) / c).floor() as i32);
+        let (y0, y1) = (((y - max) / c).floor() as i32, ((y + max) / c).floor() as i32);
+        let mut best = max * max;
+        for gy in y0..=y1 {
+            for gx in x0..=x1 {
+                let row = self.map.height as i32 - 1 - gy;
+                if !self.map.is_blocked(gx, row) {
+                    continue;
+                }
+                let nx = x.clamp(gx as f64 * c, (gx + 1) as f64 * c);
+                let ny = y.clamp(gy as f64 * c, (gy + 1) as f64 * c);
+                best = best.min((nx - x).powi(2) + (ny - y).powi(2));
+            }
+        }
+        best.sqrt()
     }
 
     /// Distance from (x, y) along heading `a` to the first wall or person,
@@ -203,6 +241,8 @@ impl World {
                 waypoints: pts,
                 next: 1,
                 track: Vec::new(),
+                waited_s: 0.0,
+                vel: (0.0, 0.0),
             });
         }
     }
@@ -218,21 +258,72 @@ impl World {
         })
     }
 
-    /// Moves the people by `dt` seconds.
+    /// Moves the people by `dt` seconds, with no robot about.
     pub fn step_people(&mut self, dt: f64) {
-        for p in &mut self.people {
+        self.step_people_near(dt, None);
+    }
+
+    /// Moves the people by `dt` seconds. People look where they walk: one
+    /// whose next step would come within 5 cm of the robot (a disc at
+    /// `robot` = (x, y, radius)) waits, for up to `PATIENCE_S`; after that
+    /// they walk on regardless (stepping over or into it).
+    pub fn step_people_near(&mut self, dt: f64, robot: Option<(f64, f64, f64)>) {
+        let mut people = std::mem::take(&mut self.people);
+        for p in &mut people {
+            let before = p.pos;
+            self.step_person(p, dt, robot);
+            p.vel = ((p.pos.0 - before.0) / dt, (p.pos.1 - before.1) / dt);
+        }
+        self.people = people;
+    }
+
+    fn step_person(&self, p: &mut Person, dt: f64, robot: Option<(f64, f64, f64)>) {
+        {
             let Some(&goal) = p.waypoints.get(p.next) else {
-                continue;
+                return;
             };
             let (dx, dy) = (goal.0 - p.pos.0, goal.1 - p.pos.1);
             let d = dx.hypot(dy);
             let s = p.speed_m_s * dt;
-            if d <= s {
-                p.pos = goal;
-                p.next = (p.next + 1) % p.waypoints.len();
+            let next = if d <= s {
+                goal
             } else {
-                p.pos.0 += dx / d * s;
-                p.pos.1 += dy / d * s;
+                (p.pos.0 + dx / d * s, p.pos.1 + dy / d * s)
+            };
+            if let Some((rx, ry, rr)) = robot {
+                let radius = p.radius_m;
+                let gap = |q: (f64, f64)| (q.0 - rx).hypot(q.1 - ry) - rr - radius;
+                // Blocked: the step closes in on the robot within 5 cm. The
+                // person steps around it (60° or 90° off their line, the
+                // side that opens the gap), waits when boxed in, and after
+                // `PATIENCE_S` walks on regardless.
+                if gap(next) < 0.05 && gap(next) < gap(p.pos) && p.waited_s < PATIENCE_S {
+                    let a = dy.atan2(dx);
+                    let side = [1.05f64, -1.05, 1.57, -1.57].iter().find_map(|off| {
+                        let q = (p.pos.0 + s * (a + off).cos(), p.pos.1 + s * (a + off).sin());
+                        (gap(q) >= gap(p.pos).min(0.05)
+                            && !self.disc_hits_wall(q.0, q.1, p.radius_m))
+                        .then_some(q)
+                    });
+                    if let Some(q) = side {
+                        p.pos = q;
+                    }
+                    p.waited_s += dt;
+                    return;
+                }
+                if p.waited_s >= PATIENCE_S && gap(next) < 0.05 {
+                    // Walking on through: stay impatient until clear.
+                    p.pos = next;
+                    if d <= s {
+                        p.next = (p.next + 1) % p.waypoints.len();
+                    }
+                    return;
+                }
+            }
+            p.waited_s = 0.0;
+            p.pos = next;
+            if d <= s {
+                p.next = (p.next + 1) % p.waypoints.len();
             }
         }
     }

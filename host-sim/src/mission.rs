@@ -1,0 +1,618 @@
+//! `host-sim mission`: the core's mission executive in closed loop with the
+//! physics, at the firmware's rates (wheel control every 10 ms, planning
+//! every 100 ms inside it, lidar bytes as the UART delivers them), measured
+//! against the ground truth.
+
+use std::fmt::Write as _;
+use std::time::Instant;
+
+use robovac::coverage::PlannerKind;
+use robovac::hal::{ByteSource, MotorDriver, QuadratureEncoder};
+use robovac::lidar_map::{CellState, EvidenceMap};
+use robovac::mission::{MapMode, Mission, MissionConfig, MotorCmd, Parts, State};
+use robovac::odometry::Pose;
+use robovac::Cell;
+
+use crate::drive::{HOST_EVIDENCE, MOUNT};
+use crate::floor::Floor;
+use crate::maps::MapData;
+use crate::robot::{Noise, RobotConfig, Sim, SimEncoder};
+use crate::state::{new_grid, HostGrid};
+use crate::world::World;
+
+/// Evidence (and fine planning) cell side, mm.
+pub const EVIDENCE_MM: u32 = 50;
+
+/// What to run.
+#[derive(Clone, Debug)]
+pub struct MissionOptions {
+    /// The floor (ground truth; in known mode also the robot's prior map).
+    pub map: MapData,
+    /// Metres per map cell.
+    pub cell_m: f64,
+    /// Map mode.
+    pub mode: MapMode,
+    /// People walking.
+    pub people: usize,
+    /// Noise.
+    pub noise: Noise,
+    /// Seed.
+    pub seed: u64,
+    /// Simulated time limit, s.
+    pub max_time_s: f64,
+    /// The dock (start), m; default: a free spot near the map's centre.
+    pub start: Option<(f64, f64)>,
+    /// Coverage planner.
+    pub kind: PlannerKind,
+    /// Silence the lidar between these sim times (s), to exercise the fault.
+    pub lidar_gap_s: Option<(f64, f64)>,
+}
+
+/// What a mission measured.
+#[derive(Clone, Debug, Default)]
+pub struct MissionReport {
+    /// The executive reached Done.
+    pub finished: bool,
+    /// The true final position is within 0.15 m of the start.
+    pub returned_to_start: bool,
+    /// Share of the reachable floor swept (truth, 5 cm cells).
+    pub coverage: f64,
+    /// Swept area counted with multiplicity over the area swept, minus 1:
+    /// (distance × cleaning width + body disc) / swept area − 1.
+    pub repetition: f64,
+    /// The robot moved into a wall or person.
+    pub collisions: usize,
+    /// A person walked into the robot.
+    pub person_contacts: usize,
+    /// Smallest true gap between the body and a wall or person, m.
+    pub min_clearance_m: f64,
+    /// Smallest true gap between the body and a wall, m.
+    pub min_wall_clearance_m: f64,
+    /// Distance driven (truth), m.
+    pub distance_m: f64,
+    /// Avoidances started.
+    pub avoidance_events: u32,
+    /// Simulated time, s.
+    pub sim_time_s: f64,
+    /// Wall-clock time, s.
+    pub wall_time_s: f64,
+    /// Path length ÷ cleaning speed, s.
+    pub ideal_time_s: f64,
+    /// Reachable floor ÷ (cleaning width × cleaning speed), s.
+    pub floor_time_s: f64,
+    /// Reachable floor, m².
+    pub floor_m2: f64,
+    /// The final state.
+    pub final_state: String,
+    /// Faults and events: (name, count).
+    pub faults: Vec<(String, u64)>,
+    /// The executive's counters.
+    pub counters: robovac::mission::Counters,
+    /// Odometry error at the end, mm.
+    pub odometry_error_mm: f64,
+    /// Simulated time spent in each state, s.
+    pub state_time_s: std::collections::BTreeMap<String, f64>,
+}
+
+/// Tracks for the picture.
+#[derive(Clone, Debug, Default)]
+pub struct MissionTrace {
+    /// True positions (every 10 ms), m.
+    pub truth: Vec<(f64, f64)>,
+    /// People's tracks.
+    pub people: Vec<Vec<(f64, f64)>>,
+    /// Where avoidances started.
+    pub avoidances: Vec<(f64, f64)>,
+    /// Collisions: (where, by a person).
+    pub collisions: Vec<((f64, f64), bool)>,
+    /// Start, m.
+    pub start: (f64, f64),
+}
+
+/// A free spot for the dock near the map's centre (the body plus 5 cm fits).
+pub fn default_start(world: &World, r: f64) -> Option<(f64, f64)> {
+    let (w, h) = world.size_m();
+    let mut best: Option<(f64, (f64, f64))> = None;
+    let step = 0.05;
+    let mut y = r;
+    while y < h - r {
+        let mut x = r;
+        while x < w - r {
+            if !world.disc_hits_wall(x, y, r + 0.05) {
+                let d = (x - w / 2.0).hypot(y - h / 2.0);
+                if best.is_none_or(|(b, _)| d < b) {
+                    best = Some((d, (x, y)));
+                }
+            }
+            x += step;
+        }
+        y += step;
+    }
+    best.map(|(_, p)| p)
+}
+
+/// The host's planning buffers.
+pub struct HostParts {
+    planner: Box<crate::plan::HostCoverage>,
+    coarse: Box<HostGrid>,
+    fine: Box<HostGrid>,
+    /// The evidence map.
+    pub map: Box<EvidenceMap<HOST_EVIDENCE>>,
+    path: Vec<Cell>,
+}
+
+impl HostParts {
+    /// Fresh buffers.
+    pub fn new(kind: PlannerKind) -> Self {
+        Self {
+            planner: crate::plan::new_planner(kind),
+            coarse: new_grid(),
+            fine: new_grid(),
+            map: Box::new(EvidenceMap::new()),
+            path: vec![Cell::default(); 1 << 18],
+        }
+    }
+}
+
+/// Runs a mission; `progress(sim_s, state, coverage)` is called about
+/// every simulated 10 s.
+pub fn run_mission(
+    opts: &MissionOptions,
+    mut progress: impl FnMut(f64, State, f64),
+) -> Result<(MissionReport, MissionTrace, Floor), String> {
+    let t0 = Instant::now();
+    let cfg = RobotConfig::default();
+    let mut world = World::new(opts.map.clone(), opts.cell_m);
+    let r = cfg.diameter_m / 2.0;
+    let start = match opts.start {
+        Some(s) => s,
+        None => default_start(&world, r).ok_or("no free spot for the robot on this map")?,
+    };
+    if world.disc_hits_wall(start.0, start.1, r + 0.01) {
+        return Err(format!(
+            "the start ({:.2}, {:.2}) m is too close to a wall for the robot",
+            start.0, start.1
+        ));
+    }
+    let mut rng = robovac::maps::SplitMix64::new(opts.seed ^ 0x5EED);
+    world.add_people(opts.people, &mut rng);
+    // People do not start on the dock.
+    for p in &mut world.people {
+        if (p.pos.0 - start.0).hypot(p.pos.1 - start.1) < 0.6 {
+            p.next = (p.next + 1) % p.waypoints.len();
+        }
+    }
+    let heading = 0.0;
+    let mut sim = Sim::new(
+        cfg.clone(),
+        world,
+        (start.0, start.1, heading),
+        opts.noise,
+        opts.seed,
+    );
+    let mut floor = Floor::new(&sim.world, start, r, 0.05);
+    // The core.
+    let mut mcfg = MissionConfig::new(opts.mode, cfg.geometry(), cfg.gains, MOUNT);
+    mcfg.kind = opts.kind;
+    mcfg.radius_mm = (r * 1000.0).round() as i32;
+    let mut hp = HostParts::new(opts.kind);
+    let (wm, hm) = sim.world.size_m();
+    let (ew, eh) = (
+        ((wm * 1000.0).round() as u32).div_ceil(EVIDENCE_MM),
+        ((hm * 1000.0).round() as u32).div_ceil(EVIDENCE_MM),
+    );
+    hp.map
+        .reset(ew, eh, EVIDENCE_MM)
+        .map_err(|e| format!("map too large for the evidence map: {e}"))?;
+    if opts.mode == MapMode::Known {
+        let res = EVIDENCE_MM as f64 / 1000.0;
+        for cy in 0..eh as i32 {
+            for cx in 0..ew as i32 {
+                let (x, y) = (
+                    (cx as f64 + 0.5) * res,
+                    (eh as f64 - cy as f64 - 0.5) * res,
+                );
+                let st = if sim.world.blocked_at(x, y) {
+                    CellState::Occupied
+                } else {
+                    CellState::Free
+                };
+                hp.map.set_state(cx, cy, st);
+            }
+        }
+    }
+    let mut mission = Box::new(Mission::new(mcfg));
+    let mut parts = Parts {
+        planner: &mut hp.planner,
+        coarse: &mut hp.coarse,
+        fine: &mut hp.fine,
+        map: &mut hp.map,
+        path: &mut hp.path,
+    };
+    mission.begin(
+        &mut parts,
+        Pose {
+            x_mm: (start.0 * 1000.0).round() as i32,
+            y_mm: (start.1 * 1000.0).round() as i32,
+            theta_mrad: 0,
+        },
+    );
+    if std::env::var_os("ROBOVAC_DEBUG_GRID").is_some() {
+        let g = &*parts.coarse;
+        for y in 0..g.height() as i32 {
+            let row: String = (0..g.width() as i32)
+                .map(|x| if g.is_blocked(x, y) { '#' } else { '.' })
+                .collect();
+            eprintln!("{row}");
+        }
+    }
+    let mut rep = MissionReport {
+        min_clearance_m: f64::INFINITY,
+        min_wall_clearance_m: f64::INFINITY,
+        ..Default::default()
+    };
+    let mut trace = MissionTrace {
+        start,
+        ..Default::default()
+    };
+    let max_us = (opts.max_time_s * 1e6) as u64;
+    let mut buf = [0u8; 512];
+    let mut last_avoid = 0u32;
+    let mut next_progress = 10_000_000u64;
+    let steps = cfg.control_period_us / cfg.physics_step_us;
+    let trace_on = std::env::var_os("ROBOVAC_DEBUG_TRACE").is_some();
+    let mut seen_collisions = 0usize;
+    while sim.t_us < max_us && !mission.finished() {
+        for _ in 0..steps {
+            sim.step();
+        }
+        // Lidar bytes that arrived during the period, then the tick.
+        loop {
+            let n = sim.read(&mut buf);
+            if n == 0 {
+                break;
+            }
+            let t = sim.t_us as f64 * 1e-6;
+            let silent = opts.lidar_gap_s.is_some_and(|(a, b)| t >= a && t < b);
+            if !silent {
+                mission.feed_lidar(&mut parts, buf.get(..n).unwrap_or(&[]), sim.t_us);
+            }
+        }
+        let l = SimEncoder {
+            sim: &sim,
+            wheel: 0,
+        }
+        .count();
+        let rr = SimEncoder {
+            sim: &sim,
+            wheel: 1,
+        }
+        .count();
+        match mission.tick(&mut parts, sim.t_us, (l, rr)) {
+            MotorCmd::Duty(a, b) => sim.set_duty(a, b),
+            MotorCmd::Brake => sim.brake(),
+        }
+        if trace_on && sim.collisions.len() > seen_collisions {
+            seen_collisions = sim.collisions.len();
+            if let Some(c) = sim.collisions.last() {
+                eprintln!(
+                    "COLLISION t {:.2} by_person {} robot ({:.3},{:.3},{:.2}) state {:?} wheels {:?} people {:?}",
+                    c.t_s,
+                    c.by_person,
+                    sim.pose.0,
+                    sim.pose.1,
+                    sim.pose.2,
+                    mission.state(),
+                    sim.wheel_speeds(),
+                    sim.world.people.iter().map(|p| (p.pos, p.waited_s)).collect::<Vec<_>>()
+                );
+            }
+        }
+        let st = mission.state();
+        let key = match st {
+            State::Failed(_) => "Failed".to_string(),
+            s => format!("{s:?}"),
+        };
+        *rep.state_time_s.entry(key).or_insert(0.0) += cfg.control_period_us as f64 * 1e-6;
+        // Truth measurements.
+        let (x, y, _) = sim.pose;
+        floor.sweep(x, y);
+        let wall = sim.world.wall_distance(x, y, 1.0) - r;
+        rep.min_wall_clearance_m = rep.min_wall_clearance_m.min(wall);
+        let person = sim
+            .world
+            .people
+            .iter()
+            .map(|p| (p.pos.0 - x).hypot(p.pos.1 - y) - p.radius_m - r)
+            .fold(f64::INFINITY, f64::min);
+        rep.min_clearance_m = rep.min_clearance_m.min(wall.min(person));
+        let c = mission.counters();
+        if c.avoidance_events > last_avoid {
+            last_avoid = c.avoidance_events;
+            trace.avoidances.push((x, y));
+        }
+        if trace_on && sim.t_us % 1_000_000 == 0 {
+            eprintln!(
+                "t {:.0} {:?} {:?} truth ({:.2},{:.2},{:.2}) dwa {:?} front {:?} {:?}",
+                sim.t_us as f64 * 1e-6,
+                mission.state(),
+                mission.corridor_status(),
+                x,
+                y,
+                sim.pose.2,
+                mission.dwa_command(),
+                mission.current_subpath(),
+                mission.counters()
+            );
+            for p in &sim.world.people {
+                eprintln!("   person ({:.2},{:.2}) waited {:.1}", p.pos.0, p.pos.1, p.waited_s);
+            }
+            eprintln!("   pose {:?} near {:?}", mission.pose(), mission.points_near(260).collect::<Vec<_>>());
+        }
+        if sim.t_us >= next_progress {
+            next_progress += 10_000_000;
+            progress(sim.t_us as f64 * 1e-6, mission.state(), floor.coverage());
+        }
+    }
+    progress(sim.t_us as f64 * 1e-6, mission.state(), floor.coverage());
+    if std::env::var_os("ROBOVAC_DEBUG_GRID").is_some() {
+        let g = &*parts.coarse;
+        for y in 0..g.height() as i32 {
+            let row: String = (0..g.width() as i32)
+                .map(|x| {
+                    if g.is_blocked(x, y) {
+                        '#'
+                    } else if g.get(robovac::grid::Layer::Covered, x, y) {
+                        'c'
+                    } else {
+                        '.'
+                    }
+                })
+                .collect();
+            eprintln!("{row}");
+        }
+        eprintln!("{:?}", parts.planner.stats());
+    }
+    let state = mission.state();
+    let c = mission.counters();
+    rep.finished = state == State::Done;
+    let (x, y, _) = sim.pose;
+    rep.returned_to_start = (x - start.0).hypot(y - start.1) < 0.15;
+    rep.coverage = floor.coverage();
+    rep.distance_m = sim.distance_m;
+    let swept = floor.swept_area_m2().max(1e-9);
+    rep.repetition =
+        (rep.distance_m * cfg.diameter_m + std::f64::consts::PI * r * r) / swept - 1.0;
+    rep.collisions = sim.collisions.iter().filter(|c| !c.by_person).count();
+    rep.person_contacts = sim.collisions.iter().filter(|c| c.by_person).count();
+    rep.avoidance_events = c.avoidance_events;
+    rep.sim_time_s = sim.t_us as f64 * 1e-6;
+    rep.ideal_time_s = rep.distance_m / cfg.clean_speed_m_s;
+    let (res, _, _) = floor.dims();
+    rep.floor_m2 = floor.floor_cells as f64 * res * res;
+    rep.floor_time_s = rep.floor_m2 / (cfg.diameter_m * cfg.clean_speed_m_s);
+    rep.final_state = format!("{state:?}");
+    rep.counters = c;
+    let pose = mission.pose();
+    rep.odometry_error_mm =
+        (x - pose.x_mm as f64 / 1000.0).hypot(y - pose.y_mm as f64 / 1000.0) * 1000.0;
+    let mut faults = vec![
+        ("lidar_silences".to_string(), c.lidar_silences as u64),
+        ("stalls".to_string(), c.stalls as u64),
+        ("blocked_cells".to_string(), c.blocked_cells as u64),
+        ("skipped_subpaths".to_string(), c.skipped as u64),
+    ];
+    if let State::Failed(f) = state {
+        faults.push((format!("failed: {}", f.as_str()), 1));
+    }
+    if !rep.finished && !matches!(state, State::Failed(_)) {
+        faults.push(("time limit".to_string(), 1));
+    }
+    rep.faults = faults;
+    if rep.min_clearance_m.is_infinite() {
+        rep.min_clearance_m = 0.0;
+    }
+    trace.truth = std::mem::take(&mut sim.trajectory);
+    trace.people = sim.world.people.iter().map(|p| p.track.clone()).collect();
+    trace.collisions = sim.collisions.iter().map(|c| (c.pos, c.by_person)).collect();
+    rep.wall_time_s = t0.elapsed().as_secs_f64();
+    Ok((rep, trace, floor))
+}
+
+/// The report as JSON.
+pub fn report_json(rep: &MissionReport) -> serde_json::Value {
+    let c = &rep.counters;
+    serde_json::json!({
+        "finished": rep.finished,
+        "returned_to_start": rep.returned_to_start,
+        "coverage": rep.coverage,
+        "repetition": rep.repetition,
+        "collisions": rep.collisions,
+        "person_contacts": rep.person_contacts,
+        "min_clearance_m": rep.min_clearance_m,
+        "min_wall_clearance_m": rep.min_wall_clearance_m,
+        "distance_m": rep.distance_m,
+        "avoidance_events": rep.avoidance_events,
+        "sim_time_s": rep.sim_time_s,
+        "wall_time_s": rep.wall_time_s,
+        "sim_speed": rep.sim_time_s / rep.wall_time_s.max(1e-9),
+        "ideal_time_s": rep.ideal_time_s,
+        "time_vs_ideal": rep.sim_time_s / rep.ideal_time_s.max(1e-9),
+        "floor_m2": rep.floor_m2,
+        "floor_time_s": rep.floor_time_s,
+        "final_state": rep.final_state,
+        "odometry_error_mm": rep.odometry_error_mm,
+        "state_time_s": rep.state_time_s,
+        "faults": rep.faults.iter().map(|(k, v)| (k.clone(), serde_json::json!(v))).collect::<serde_json::Map<_, _>>(),
+        "counters": {
+            "dwa_no_admissible": c.dwa_no_admissible,
+            "detours": c.detours,
+            "replans": c.replans,
+            "guard_ticks": c.guard_ticks,
+            "scans": c.scans,
+            "plan_steps": c.plan_steps,
+        },
+    })
+}
+
+/// One line of summary.
+pub fn summary(rep: &MissionReport) -> String {
+    format!(
+        "finished {} · back at start {} · coverage {:.2} % · repetition {:.2} · collisions {} (people into robot {}) · min clearance {:.3} m · {:.1} m in {:.0} s simulated (ideal {:.0} s, ×{:.2}) · avoidances {} · {:.0}× real time",
+        rep.finished,
+        rep.returned_to_start,
+        100.0 * rep.coverage,
+        rep.repetition,
+        rep.collisions,
+        rep.person_contacts,
+        rep.min_clearance_m,
+        rep.distance_m,
+        rep.sim_time_s,
+        rep.ideal_time_s,
+        rep.sim_time_s / rep.ideal_time_s.max(1e-9),
+        rep.avoidance_events,
+        rep.sim_time_s / rep.wall_time_s.max(1e-9),
+    )
+}
+
+/// The mission as an SVG: the ground truth, the swept floor shaded (missed
+/// reachable floor in red), the trajectory, people's tracks, avoidances
+/// (blue rings) and collisions (red crosses: the robot's; orange: a person
+/// walked into it), with the metrics as a caption.
+pub fn mission_svg(
+    map: &MapData,
+    cell_m: f64,
+    floor: &Floor,
+    t: &MissionTrace,
+    rep: &MissionReport,
+    title: &str,
+) -> String {
+    let (wm, hm) = (map.width as f64 * cell_m, map.height as f64 * cell_m);
+    let s = (900.0 / wm.max(hm)).min(200.0);
+    let (w, h) = (wm * s, hm * s);
+    let mut o = String::new();
+    let _ = writeln!(
+        o,
+        r##"<svg xmlns="http://www.w3.org/2000/svg" width="{:.0}" height="{:.0}" font-family="sans-serif"><rect width="100%" height="100%" fill="#fff"/><g transform="translate(10,10)">"##,
+        w + 20.0,
+        h + 120.0
+    );
+    // Swept / missed floor.
+    let (res, fw, fh) = floor.dims();
+    for y in 0..fh {
+        // Runs of equal state in a row, one rectangle each.
+        let mut x = 0;
+        while x < fw {
+            let st = floor.state(x, y);
+            let mut x1 = x + 1;
+            while x1 < fw && floor.state(x1, y) == st {
+                x1 += 1;
+            }
+            if let Some(swept) = st {
+                let colour = if swept { "#c7e9c0" } else { "#f4a6a6" };
+                let _ = writeln!(
+                    o,
+                    r##"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}" fill="{colour}" shape-rendering="crispEdges"/>"##,
+                    x as f64 * res * s,
+                    (hm - (y + 1) as f64 * res) * s,
+                    (x1 - x) as f64 * res * s,
+                    res * s
+                );
+            }
+            x = x1;
+        }
+    }
+    for y in 0..map.height as i32 {
+        for x in 0..map.width as i32 {
+            if map.is_blocked(x, y) {
+                let _ = writeln!(
+                    o,
+                    r##"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}" fill="#555" shape-rendering="crispEdges"/>"##,
+                    x as f64 * cell_m * s,
+                    y as f64 * cell_m * s,
+                    cell_m * s,
+                    cell_m * s
+                );
+            }
+        }
+    }
+    let line = |pts: &[(f64, f64)], step: usize, style: &str| {
+        let p: Vec<String> = pts
+            .iter()
+            .step_by(step.max(1))
+            .map(|(x, y)| format!("{:.1},{:.1}", x * s, (hm - y) * s))
+            .collect();
+        format!(
+            r#"<polyline points="{}" fill="none" {style}/>"#,
+            p.join(" ")
+        )
+    };
+    for track in &t.people {
+        o += &line(
+            track,
+            1,
+            r##"stroke="#ff7f0e" stroke-width="1" opacity="0.5""##,
+        );
+    }
+    o += &line(
+        &t.truth,
+        5,
+        r##"stroke="#1f3f9f" stroke-width="1.2" opacity="0.8""##,
+    );
+    for &(x, y) in &t.avoidances {
+        let _ = writeln!(
+            o,
+            r##"<circle cx="{:.1}" cy="{:.1}" r="6" fill="none" stroke="#1f77b4" stroke-width="2"/>"##,
+            x * s,
+            (hm - y) * s
+        );
+    }
+    for &((x, y), by_person) in &t.collisions {
+        let colour = if by_person { "#ff7f0e" } else { "#d62728" };
+        let (cx, cy) = (x * s, (hm - y) * s);
+        let _ = writeln!(
+            o,
+            r##"<path d="M{:.1},{:.1} l12,12 m0,-12 l-12,12" stroke="{colour}" stroke-width="3"/>"##,
+            cx - 6.0,
+            cy - 6.0
+        );
+    }
+    let _ = writeln!(
+        o,
+        r##"<rect x="{:.1}" y="{:.1}" width="12" height="12" fill="#2ca02c" stroke="#000"/>"##,
+        t.start.0 * s - 6.0,
+        (hm - t.start.1) * s - 6.0
+    );
+    let lines = [
+        title.to_string(),
+        format!(
+            "coverage {:.2} % of {:.1} m² reachable floor · repetition {:.2} · finished {} · back at the dock {}",
+            100.0 * rep.coverage,
+            rep.floor_m2,
+            rep.repetition,
+            rep.finished,
+            rep.returned_to_start
+        ),
+        format!(
+            "collisions {} (people walking into the robot {}) · min clearance {:.3} m · avoidances {} · {:.1} m in {:.0} s (path ÷ speed {:.0} s)",
+            rep.collisions,
+            rep.person_contacts,
+            rep.min_clearance_m,
+            rep.avoidance_events,
+            rep.distance_m,
+            rep.sim_time_s,
+            rep.ideal_time_s
+        ),
+        "green: swept · red: reachable floor missed · blue line: robot · orange: people · rings: avoidances · crosses: collisions · square: dock".to_string(),
+    ];
+    for (k, l) in lines.iter().enumerate() {
+        let _ = writeln!(
+            o,
+            r##"<text x="0" y="{:.0}" font-size="12" fill="#222">{}</text>"##,
+            h + 18.0 + 16.0 * k as f64,
+            l.replace('&', "&amp;").replace('<', "&lt;")
+        );
+    }
+    o += "</g></svg>\n";
+    o
+}
