@@ -34,22 +34,34 @@ pub struct GuardParams {
 /// axis before the body touches one of `points` (robot frame, mm);
 /// `i32::MAX` when nothing is in the way. Points already inside the
 /// corridor's swept front count as 0.
+///
+/// The distance to the *second* nearest point is used: a real obstacle
+/// returns many points, while a lone range-noise outlier (the LD06 is good
+/// to about ±10 mm) beside a wall the robot passes must not stop it. A
+/// single stray point can therefore be ignored; anything as thin as a
+/// chair leg still returns two or more points within a metre.
 pub fn free_distance_mm(
     points: impl Iterator<Item = (i32, i32)>,
     radius_mm: i32,
     forward: bool,
 ) -> i32 {
     let r = radius_mm as i64;
-    let mut best = i32::MAX as i64;
+    let (mut first, mut second) = (i32::MAX as i64, i32::MAX as i64);
     for (x, y) in points {
         let (x, y) = (if forward { x as i64 } else { -(x as i64) }, y as i64);
         if x <= 0 || y.abs() >= r {
             continue;
         }
         let half_chord = isqrt_u64((r * r - y * y) as u64) as i64;
-        best = best.min((x - half_chord).max(0));
+        let d = (x - half_chord).max(0);
+        if d < first {
+            second = first;
+            first = d;
+        } else if d < second {
+            second = d;
+        }
     }
-    best as i32
+    second as i32
 }
 
 /// The linear speed allowed (same sign as `v_mm_s`, never larger in

@@ -212,6 +212,9 @@ pub struct MissionConfig {
     pub subpath_timeout_us: u64,
     /// Stall retries before a sub-path is dropped.
     pub stall_retries: u8,
+    /// Closer than this to two lidar points (beyond the radius), the robot
+    /// stops turning and backs straight away from them, mm.
+    pub escape_mm: i32,
 }
 
 impl MissionConfig {
@@ -234,13 +237,21 @@ impl MissionConfig {
             radius_mm,
             margin_mm: 10,
             plan_cell_mm: 300,
-            follow: crate::follow::DEFAULT_FOLLOW,
+            // Tighter than the drive defaults: a cleaning run keeps 10 mm
+            // from walls, so sub-paths end within 10 mm and the robot turns
+            // to within 0.1 rad before it drives.
+            follow: FollowParams {
+                arrive_mm: 10,
+                turn_in_place_mrad: 100,
+                min_mm_s: 30,
+                ..crate::follow::DEFAULT_FOLLOW
+            },
             dwa,
             guard: GuardParams {
-                radius_mm: radius_mm + 1,
+                radius_mm: radius_mm + 2,
                 brake_mm_s2: 500,
                 reserve_mm: 20,
-                creep_mm_s: 15,
+                creep_mm_s: 40,
                 moving_margin_mm: 60,
             },
             mount,
@@ -254,7 +265,20 @@ impl MissionConfig {
             avoid_wait_us: 2_000_000,
             subpath_timeout_us: 30_000_000,
             stall_retries: 2,
+            escape_mm: 0,
         }
+    }
+
+    /// Margins for a lidar whose range noise is `noise_mm` (1 σ): the
+    /// clearance kept from mapped walls grows by 2 σ and the guard's
+    /// corridor by 1.5 σ, so passing a wall does not look like driving
+    /// into it and a noisy wall is not grazed. 0 for an ideal sensor.
+    pub const fn with_lidar_noise(mut self, noise_mm: i32) -> Self {
+        self.margin_mm = 10 + 2 * noise_mm;
+        self.guard.radius_mm = self.radius_mm + 2 + noise_mm * 3 / 2;
+        self.escape_mm = 2 + noise_mm / 2;
+        self.dwa.radius_mm = self.radius_mm + 15 + noise_mm;
+        self
     }
 }
 
@@ -281,6 +305,9 @@ pub struct Counters {
     /// Legs re-planned from where the robot stood after the guard held it
     /// (a wall the plan did not know of, or odometry drift).
     pub replans: u32,
+    /// Control ticks spent backing away from something at touching
+    /// distance.
+    pub escapes: u32,
     /// Control ticks on which the guard lowered the speed.
     pub guard_ticks: u32,
     /// Lidar revolutions.
@@ -481,6 +508,7 @@ impl Mission {
             counters: Counters {
                 replans: 0,
                 retried: 0,
+                escapes: 0,
                 avoidance_events: 0,
                 dwa_no_admissible: 0,
                 lidar_silences: 0,
@@ -804,23 +832,51 @@ impl<
             m.counters.plan_steps += 1;
             self.plan(now_us, &pose);
         }
-        let (mut v, w) = self.motion(now_us, &pose);
+        let (mut v, mut w) = self.motion(now_us, &pose);
         let m2 = &mut *self.m;
+        // Escape: touching distance to something (a person stepped in, or
+        // the pose drifted onto a corner). A turn with unequal motors would
+        // edge the body into it, so back straight away from it instead.
+        let close = (m2.cfg.radius_mm + m2.cfg.escape_mm) as i64;
+        let (mut n_close, mut sum_x) = (0i64, 0i64);
+        for q in m2.points() {
+            let (x, y) = to_robot(&pose, q);
+            if (x as i64).pow(2) + (y as i64).pow(2) < close * close {
+                n_close += 1;
+                sum_x += x as i64;
+            }
+        }
+        if n_close >= 2 && !matches!(m2.phase, Phase::SelfTestWheels { .. }) {
+            m2.counters.escapes += 1;
+            w = 0;
+            v = if sum_x > 0 { -60 } else { 60 };
+        }
         // The guard: mapped things with the normal reserve; unmapped ones
         // (which may be people walking) with a wider corridor and a reserve
         // for how far they move while the lidar comes round again.
         if v != 0 {
             let g = m2.cfg.guard;
-            let free_static = free_distance_mm(
-                m2.points_where(true).map(|q| to_robot(&pose, q)),
-                g.radius_mm,
-                v > 0,
-            );
-            let free_moving = free_distance_mm(
-                m2.points_where(false).map(|q| to_robot(&pose, q)),
-                g.radius_mm + g.moving_margin_mm,
-                v > 0,
-            );
+            // A turning robot is checked along its present heading and the
+            // one it will have in a quarter second (the arc's chord).
+            let turned = Pose {
+                theta_mrad: pose.theta_mrad + w / 4,
+                ..pose
+            };
+            let free_along = |mapped: bool, radius: i32| {
+                [pose, turned]
+                    .iter()
+                    .map(|p| {
+                        free_distance_mm(
+                            m2.points_where(mapped).map(|q| to_robot(p, q)),
+                            radius,
+                            v > 0,
+                        )
+                    })
+                    .min()
+                    .unwrap_or(i32::MAX)
+            };
+            let free_static = free_along(true, g.radius_mm);
+            let free_moving = free_along(false, g.radius_mm + g.moving_margin_mm);
             let lim_static = limit_speed(&g, v, free_static);
             let moving = GuardParams {
                 reserve_mm: g.reserve_mm + g.moving_margin_mm,
@@ -1168,7 +1224,7 @@ impl<
         m.feed = Some(Feed {
             searching: true,
             len: 0,
-            pos: 1,
+            pos: 0,
             cover,
             then: Some(to),
         });
@@ -1318,7 +1374,7 @@ impl<
         m.feed = Some(Feed {
             searching: true,
             len: 0,
-            pos: 1,
+            pos: 0,
             cover: false,
             then: Some(home),
         });
@@ -1491,12 +1547,19 @@ impl<
                     .any(|q| in_corridor(here, ahead, q, reach));
                 let free = m.free_toward(here, seg.to);
                 if !unexplained && free as i64 >= 250.min(total) {
-                    m.queue.replace_front(SubPath {
-                        from: here,
-                        to: seg.to,
-                    });
                     m.activity = Activity::Follow;
                     m.subpath_since_us = now_us;
+                    // Rejoin straight when the map allows it, else by a
+                    // fresh path from here.
+                    let r = (m.cfg.radius_mm + m.cfg.margin_mm / 2) as i64;
+                    if segment_clear(self.p.map, here, seg.to, r) {
+                        m.queue.replace_front(SubPath {
+                            from: here,
+                            to: seg.to,
+                        });
+                    } else {
+                        self.replan_leg(now_us, pose);
+                    }
                     return;
                 }
                 let waited = now_us.saturating_sub(m.avoid_since_us);

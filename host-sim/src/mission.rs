@@ -195,6 +195,11 @@ pub fn run_mission(
     let mut mcfg = MissionConfig::new(opts.mode, cfg.geometry(), cfg.gains, MOUNT);
     mcfg.kind = opts.kind;
     mcfg.radius_mm = (r * 1000.0).round() as i32;
+    // The robot's margins follow its lidar's range noise (the firmware is
+    // configured for its sensor; the ideal one has none).
+    if opts.noise == Noise::Realistic {
+        mcfg = mcfg.with_lidar_noise((cfg.lidar_noise_m * 1000.0).round() as i32);
+    }
     let mut hp = HostParts::new(opts.kind);
     let (wm, hm) = sim.world.size_m();
     let (ew, eh) = (
@@ -449,6 +454,8 @@ pub fn report_json(rep: &MissionReport) -> serde_json::Value {
             "detours": c.detours,
             "replans": c.replans,
             "guard_ticks": c.guard_ticks,
+            "escape_ticks": c.escapes,
+            "retried": c.retried,
             "scans": c.scans,
             "plan_steps": c.plan_steps,
         },
