@@ -643,7 +643,13 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
 
     /// Drops points that became obstacles or are no longer worth visiting
     /// under the planner's own rule.
-    fn drop_stale<const GW: usize>(&mut self, grid: &Grid<GW>) {
+    fn drop_stale<const GW: usize>(&mut self, grid: &mut Grid<GW>) {
+        // A point where the planner already stands (put back by a caller
+        // that un-covered it) is covered by standing there.
+        let (cx, cy) = self.cur.xy();
+        if uncovered(grid, cx, cy) && self.list.as_slice().contains(&self.cur) {
+            let _ = grid.set(Layer::Covered, cx, cy, true);
+        }
         let kind = self.kind;
         self.retain(grid, |g, c| {
             let (x, y) = c.xy();

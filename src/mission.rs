@@ -72,7 +72,7 @@ use crate::lidar::LidarProtocol;
 use crate::lidar_map::{beams, CellState, EvidenceMap, LidarMount};
 use crate::metrics::SegmentKind;
 use crate::odometry::{DriveGeometry, Odometry, Pose};
-use crate::search::{Algo, Progress, SearchError};
+use crate::search::{Algo, Progress, SearchError, SearchState};
 use crate::wheel_control::{WheelControl, WheelGains};
 
 /// Lidar hit points kept (world mm): a little over one revolution.
@@ -327,9 +327,11 @@ pub struct Parts<
     const PCAP: usize,
     const EV: usize,
 > {
-    /// The coverage planner (its search state also serves the fine-grid
-    /// searches once it is idle).
+    /// The coverage planner.
     pub planner: &'a mut Coverage<N, NW, OPEN, LCAP, PCAP>,
+    /// The fine-grid searches' state (detours, edge transits, the way
+    /// home), separate from the planner's so neither clobbers the other.
+    pub search: &'a mut SearchState<N, NW, OPEN>,
     /// Planning cells.
     pub coarse: &'a mut Grid<NW>,
     /// The fine configuration space (the evidence map's cells).
@@ -1216,7 +1218,7 @@ impl<
             return;
         };
         m.counters.detours += 1;
-        let search = self.p.planner.search_state_mut();
+        let search = &mut *self.p.search;
         if search.begin(self.p.fine, a, &[b], Algo::AStar).is_err() {
             let _ = m.queue.push(to, cover);
             return;
@@ -1237,7 +1239,7 @@ impl<
             return true;
         };
         if f.searching {
-            let search = self.p.planner.search_state_mut();
+            let search = &mut *self.p.search;
             match search.resume(self.p.fine, self.m.cfg.node_budget) {
                 Ok(Progress::Pending { .. }) => return false,
                 Ok(Progress::Found(_)) => match search.write_path(self.p.path) {
@@ -1320,7 +1322,7 @@ impl<
     fn top_up_edge(&mut self) {
         let budget = self.m.cfg.node_budget;
         while self.m.queue.len() < 8 {
-            let search = self.p.planner.search_state_mut();
+            let search = &mut *self.p.search;
             match self.m.edge.step(self.p.fine, search, self.p.path, budget) {
                 Ok(EdgeStep::Move { to, edge }) => {
                     let p = cspace::fine_centre_mm(self.p.map, to.x as i32, to.y as i32);
@@ -1366,7 +1368,7 @@ impl<
             m.phase = Phase::Return;
             return;
         }
-        let search = self.p.planner.search_state_mut();
+        let search = &mut *self.p.search;
         if search.begin(self.p.fine, a, &[b], Algo::AStar).is_err() {
             self.fail(Fault::NoWayHome);
             return;

@@ -84,7 +84,7 @@ impl MapArgs {
 
 #[derive(Subcommand)]
 enum Cmd {
-    /// Plan on the built-in flat and show it in the terminal.
+    /// A whole cleaning mission on the built-in furnished flat with two people walking; writes demo.svg.
     Demo,
     /// Search one path.
     Search {
@@ -228,6 +228,23 @@ enum BenchCmd {
         #[arg(long)]
         json: bool,
     },
+    /// The mission suite: studio, multi-room flat and office; known and unknown maps; 0, 1 and 3 people; both noise levels.
+    Missions {
+        /// Seeds per configuration (36 configurations).
+        #[arg(long, default_value_t = 3)]
+        runs: usize,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Simulated time limit per mission, seconds.
+        #[arg(long, default_value_t = 5400.0)]
+        max_time: f64,
+        /// Worker threads (default: the machine's cores).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Write every mission's results as JSON.
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
     /// Wheel speed step response to 0.3 m/s (rise time, overshoot, steady-state error).
     WheelStep {
         #[arg(long, default_value_t = 1)]
@@ -296,10 +313,17 @@ fn main() -> ExitCode {
 
 fn run(cli: Cli) -> Result<(), String> {
     match cli.cmd {
-        Cmd::Demo => {
-            print!("{}", host_sim::demo::run()?);
-            Ok(())
-        }
+        Cmd::Demo => cmd_demo(),
+        Cmd::Bench {
+            which:
+                BenchCmd::Missions {
+                    runs,
+                    seed,
+                    max_time,
+                    threads,
+                    json,
+                },
+        } => cmd_bench_missions(runs, seed, max_time, threads, json.as_deref()),
         Cmd::Search {
             map,
             from,
@@ -1035,6 +1059,192 @@ fn cmd_mission(
             opts.mode, opts.people, opts.noise, opts.seed
         );
         write_file(f, &mission_svg(&opts.map, opts.cell_m, &floor, &trace, &rep, &title))?;
+    }
+    Ok(())
+}
+
+/// `host-sim demo`: the product at work.
+fn cmd_demo() -> Result<(), String> {
+    use host_sim::mission::{mission_svg, run_mission, suite_map, summary, MissionOptions};
+    let map = suite_map("home")?;
+    let opts = MissionOptions {
+        map,
+        cell_m: 0.1,
+        mode: robovac::mission::MapMode::Known,
+        people: 2,
+        noise: host_sim::robot::Noise::None,
+        seed: 1,
+        max_time_s: 5400.0,
+        start: None,
+        kind: robovac::coverage::PlannerKind::BOha,
+        lidar_gap_s: None,
+    };
+    println!("robovac demo: the firmware's mission executive cleans a 9.6 m × 7.2 m furnished flat");
+    println!("(living room, kitchen, hallway, two bedrooms, bathroom) while two people walk about.");
+    let tty = std::io::stdout().is_terminal();
+    let (rep, trace, floor) = run_mission(&opts, |t, state, cov| {
+        if tty {
+            print!("\r  {t:>6.0} s simulated · {state:?} · {:.1} % of the floor swept      ", 100.0 * cov);
+        } else if (t as u64).is_multiple_of(300) {
+            println!("  {t:>6.0} s simulated · {state:?} · {:.1} % of the floor swept", 100.0 * cov);
+        }
+        let _ = std::io::stdout().flush();
+    })?;
+    if tty {
+        println!();
+    }
+    println!("  {}", summary(&rep));
+    let svg = mission_svg(
+        &opts.map,
+        opts.cell_m,
+        &floor,
+        &trace,
+        &rep,
+        "robovac demo: known map, two people walking, ideal sensors",
+    );
+    write_file(Path::new("demo.svg"), &svg)?;
+    println!("  picture: demo.svg (swept floor green, missed red, the robot's path blue, people orange)");
+    Ok(())
+}
+
+/// `host-sim bench missions`.
+fn cmd_bench_missions(
+    runs: usize,
+    seed: u64,
+    max_time: f64,
+    threads: Option<usize>,
+    json: Option<&Path>,
+) -> Result<(), String> {
+    use host_sim::mission::{report_json, run_suite, suite_cases};
+    if runs == 0 {
+        return Err("--runs must be at least 1".into());
+    }
+    if !(max_time.is_finite() && max_time > 0.0) {
+        return Err("--max-time must be a positive number of seconds".into());
+    }
+    let cases = suite_cases(runs, seed);
+    let threads = threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+        .max(1);
+    let tty = std::io::stderr().is_terminal();
+    let t0 = Instant::now();
+    let results = run_suite(&cases, max_time, threads, |done, total| {
+        let w = 40 * done / total;
+        let line = format!(
+            "[{}{}] {done}/{total} missions, {:.0} s",
+            "#".repeat(w),
+            " ".repeat(40 - w),
+            t0.elapsed().as_secs_f64()
+        );
+        if tty {
+            eprint!("\r{line}");
+            if done == total {
+                eprintln!();
+            }
+        } else if done % (total / 10).max(1) == 0 || done == total {
+            eprintln!("{line}");
+        }
+        let _ = std::io::stderr().flush();
+    });
+    let wall = t0.elapsed().as_secs_f64();
+    let mut rows = Vec::new();
+    let mut failures = Vec::new();
+    for (c, r) in cases.iter().zip(&results) {
+        match r {
+            Ok(rep) => rows.push((c, rep)),
+            Err(e) => failures.push(format!("{} {:?} {} people seed {}: {e}", c.map, c.mode, c.people, c.seed)),
+        }
+    }
+    println!(
+        "Mission suite: {} missions ({} seeds per configuration), {:.0} s wall on {threads} threads",
+        cases.len(),
+        runs,
+        wall
+    );
+    println!(
+        "{:<7} {:<8} {:<10} {:>3} {:>8} {:>8} {:>9} {:>9} {:>6} {:>5} {:>6} {:>6} {:>7} {:>7}",
+        "map", "mode", "noise", "n", "finished", "returned", "cover avg", "cover min", "repet", "coll", "people", "avoid", "t/ideal", "sim×"
+    );
+    let mut groups: Vec<(String, String, String)> = Vec::new();
+    for (c, _) in &rows {
+        let k = (c.map.to_string(), format!("{:?}", c.mode).to_lowercase(), format!("{:?}", c.noise).to_lowercase());
+        if !groups.contains(&k) {
+            groups.push(k);
+        }
+    }
+    for g in &groups {
+        let sel: Vec<&host_sim::mission::MissionReport> = rows
+            .iter()
+            .filter(|(c, _)| {
+                c.map == g.0
+                    && format!("{:?}", c.mode).to_lowercase() == g.1
+                    && format!("{:?}", c.noise).to_lowercase() == g.2
+            })
+            .map(|(_, r)| *r)
+            .collect();
+        let n = sel.len() as f64;
+        let mean = |f: &dyn Fn(&host_sim::mission::MissionReport) -> f64| sel.iter().map(|r| f(r)).sum::<f64>() / n;
+        println!(
+            "{:<7} {:<8} {:<10} {:>3} {:>8} {:>8} {:>8.2}% {:>8.2}% {:>6.2} {:>5} {:>6} {:>6.1} {:>7.2} {:>7.0}",
+            g.0,
+            g.1,
+            g.2,
+            sel.len(),
+            sel.iter().filter(|r| r.finished).count(),
+            sel.iter().filter(|r| r.returned_to_start).count(),
+            100.0 * mean(&|r| r.coverage),
+            100.0 * sel.iter().map(|r| r.coverage).fold(1.0, f64::min),
+            mean(&|r| r.repetition),
+            sel.iter().map(|r| r.collisions).sum::<usize>(),
+            sel.iter().map(|r| r.person_contacts).sum::<usize>(),
+            mean(&|r| r.avoidance_events as f64),
+            mean(&|r| r.sim_time_s / r.ideal_time_s.max(1e-9)),
+            mean(&|r| r.sim_time_s / r.wall_time_s.max(1e-9)),
+        );
+    }
+    let total_coll: usize = rows.iter().map(|(_, r)| r.collisions).sum();
+    println!("collisions (the robot moving into something): {total_coll} over {} missions", rows.len());
+    for (mode, label) in [(robovac::mission::MapMode::Known, "known"), (robovac::mission::MapMode::Unknown, "unknown")] {
+        let sel: Vec<_> = rows
+            .iter()
+            .filter(|(c, _)| c.mode == mode && c.noise == host_sim::robot::Noise::None)
+            .collect();
+        if sel.is_empty() {
+            continue;
+        }
+        println!(
+            "noise none, {label} map: coverage min {:.2} %, mean {:.2} %; finished {}/{}; back at the start {}/{}",
+            100.0 * sel.iter().map(|(_, r)| r.coverage).fold(1.0, f64::min),
+            100.0 * sel.iter().map(|(_, r)| r.coverage).sum::<f64>() / sel.len() as f64,
+            sel.iter().filter(|(_, r)| r.finished).count(),
+            sel.len(),
+            sel.iter().filter(|(_, r)| r.returned_to_start).count(),
+            sel.len()
+        );
+    }
+    let sim: f64 = rows.iter().map(|(_, r)| r.sim_time_s).sum();
+    let wall_sum: f64 = rows.iter().map(|(_, r)| r.wall_time_s).sum();
+    println!("simulator speed: {:.0} simulated seconds per wall second per thread ({:.0} s simulated in all)", sim / wall_sum.max(1e-9), sim);
+    for f in &failures {
+        println!("error: {f}");
+    }
+    if let Some(f) = json {
+        let arr: Vec<serde_json::Value> = rows
+            .iter()
+            .map(|(c, r)| {
+                let mut v = report_json(r);
+                v["map"] = json!(c.map);
+                v["mode"] = json!(format!("{:?}", c.mode).to_lowercase());
+                v["people"] = json!(c.people);
+                v["noise"] = json!(format!("{:?}", c.noise).to_lowercase());
+                v["seed"] = json!(c.seed);
+                v
+            })
+            .collect();
+        write_file(f, &serde_json::Value::Array(arr).to_string())?;
+    }
+    if !failures.is_empty() {
+        return Err(format!("{} missions could not run", failures.len()));
     }
     Ok(())
 }

@@ -134,6 +134,7 @@ pub fn default_start(world: &World, r: f64) -> Option<(f64, f64)> {
 /// The host's planning buffers.
 pub struct HostParts {
     planner: Box<crate::plan::HostCoverage>,
+    search: Box<crate::state::HostSearch>,
     coarse: Box<HostGrid>,
     fine: Box<HostGrid>,
     /// The evidence map.
@@ -146,6 +147,7 @@ impl HostParts {
     pub fn new(kind: PlannerKind) -> Self {
         Self {
             planner: crate::plan::new_planner(kind),
+            search: crate::state::new_search(),
             coarse: new_grid(),
             fine: new_grid(),
             map: Box::new(EvidenceMap::new()),
@@ -229,6 +231,7 @@ pub fn run_mission(
     let mut mission = Box::new(Mission::new(mcfg));
     let mut parts = Parts {
         planner: &mut hp.planner,
+        search: &mut hp.search,
         coarse: &mut hp.coarse,
         fine: &mut hp.fine,
         map: &mut hp.map,
@@ -352,7 +355,8 @@ pub fn run_mission(
             for p in &sim.world.people {
                 eprintln!("   person ({:.2},{:.2}) waited {:.1}", p.pos.0, p.pos.1, p.waited_s);
             }
-            eprintln!("   pose {:?} near {:?}", mission.pose(), mission.points_near(260).collect::<Vec<_>>());
+            eprintln!("   pose {:?} near {:?}", mission.pose(), mission.points_near(260).take(4).collect::<Vec<_>>());
+            eprintln!("   planner nodes {} {:?} pos {:?} list {}", parts.planner.last_step_nodes(), parts.planner.stats(), parts.planner.position(), parts.planner.backtrack_list().len());
         }
         if sim.t_us >= next_progress {
             next_progress += 10_000_000;
@@ -622,4 +626,115 @@ pub fn mission_svg(
     }
     o += "</g></svg>\n";
     o
+}
+
+/// A built-in mission map: name, ASCII text (0.1 m cells).
+pub const SUITE_MAPS: [(&str, &str); 3] = [
+    ("studio", include_str!("../../maps/flat/studio.txt")),
+    ("home", include_str!("../../maps/flat/home.txt")),
+    ("office", include_str!("../../maps/flat/office.txt")),
+];
+
+/// A built-in map as map data (0.1 m cells).
+pub fn suite_map(name: &str) -> Result<MapData, String> {
+    let (_, text) = SUITE_MAPS
+        .iter()
+        .find(|(n, _)| *n == name)
+        .ok_or_else(|| format!("no built-in map {name:?}"))?;
+    crate::maps::parse_ascii(std::path::Path::new(name), text.as_bytes())
+        .map(|mut m| {
+            m.cell_m = Some(0.1);
+            m
+        })
+        .map_err(|e| e.to_string())
+}
+
+/// One mission of the suite.
+#[derive(Clone, Debug)]
+pub struct SuiteCase {
+    /// Map name.
+    pub map: &'static str,
+    /// Map mode.
+    pub mode: MapMode,
+    /// People.
+    pub people: usize,
+    /// Noise.
+    pub noise: Noise,
+    /// Seed.
+    pub seed: u64,
+}
+
+/// The suite: every built-in map × known/unknown × 0, 1, 3 people × noise
+/// none/realistic × `runs` seeds (from `seed`).
+pub fn suite_cases(runs: usize, seed: u64) -> Vec<SuiteCase> {
+    let mut v = Vec::new();
+    for (map, _) in SUITE_MAPS {
+        for mode in [MapMode::Known, MapMode::Unknown] {
+            for people in [0usize, 1, 3] {
+                for noise in [Noise::None, Noise::Realistic] {
+                    for k in 0..runs as u64 {
+                        v.push(SuiteCase {
+                            map,
+                            mode,
+                            people,
+                            noise,
+                            seed: seed + k,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    v
+}
+
+/// Runs the suite on `threads` threads; `progress(done, total)` after each
+/// mission. Results in case order.
+pub fn run_suite(
+    cases: &[SuiteCase],
+    max_time_s: f64,
+    threads: usize,
+    progress: impl Fn(usize, usize) + Sync,
+) -> Vec<Result<MissionReport, String>> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::sync::Mutex;
+    let next = AtomicUsize::new(0);
+    let done = AtomicUsize::new(0);
+    let out: Mutex<Vec<Option<Result<MissionReport, String>>>> =
+        Mutex::new(vec![None; cases.len()]);
+    std::thread::scope(|s| {
+        for _ in 0..threads.max(1) {
+            s.spawn(|| loop {
+                let i = next.fetch_add(1, Ordering::SeqCst);
+                let Some(c) = cases.get(i) else { break };
+                let r = suite_map(c.map).and_then(|map| {
+                    let opts = MissionOptions {
+                        map,
+                        cell_m: 0.1,
+                        mode: c.mode,
+                        people: c.people,
+                        noise: c.noise,
+                        seed: c.seed,
+                        max_time_s,
+                        start: None,
+                        kind: PlannerKind::BOha,
+                        lidar_gap_s: None,
+                    };
+                    run_mission(&opts, |_, _, _| {}).map(|(rep, _, _)| rep)
+                });
+                if let Ok(mut o) = out.lock() {
+                    if let Some(slot) = o.get_mut(i) {
+                        *slot = Some(r);
+                    }
+                }
+                let d = done.fetch_add(1, Ordering::SeqCst) + 1;
+                progress(d, cases.len());
+            });
+        }
+    });
+    out.into_inner()
+        .unwrap_or_default()
+        .into_iter()
+        .map(|r| r.unwrap_or_else(|| Err("not run".into())))
+        .collect()
 }
