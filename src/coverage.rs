@@ -328,6 +328,19 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
         }
     }
 
+    /// Forgets every goal given up as unreachable, so the next rescan
+    /// tries them again (the map may have opened: a person who stood in a
+    /// doorway has walked on). Returns how many there were; with some, a
+    /// finished planner takes up planning again from `at`.
+    pub fn retry_abandoned(&mut self, at: Cell) -> u32 {
+        let n = self.abandoned.count_prefix(NW * 32);
+        if n > 0 {
+            self.abandoned.clear_all();
+            self.reopen(at);
+        }
+        n as u32
+    }
+
     /// Puts a cell back on the backtracking list (a cell the caller
     /// un-covered because the robot could not clean it). False when the
     /// list is full.

@@ -87,7 +87,8 @@ pub fn size_coarse<const EV: usize, const GW: usize>(
 }
 
 /// Where the robot stands for planning cell (gx, gy) of `cell_mm`, in
-/// index space: the cell's centre when the robot fits there, else the
+/// index space (always on floor the map has seen free): the cell's centre
+/// when the robot fits there, else the
 /// fine-cell centre inside the planning cell nearest to it where the robot
 /// fits; None when it fits nowhere in the cell. This keeps narrow passages
 /// that do not line up with the planning grid (a 0.4 m gap between a
@@ -105,7 +106,14 @@ pub fn coarse_anchor<const EV: usize>(
     let (x0, y0) = (gx as i64 * cell, gy as i64 * cell);
     let (cx, cy) = (x0 + cell / 2, y0 + cell / 2);
     let r = radius_mm as i64;
-    if !disc_blocked(map, cx, cy, r, unknown_blocks) {
+    // The robot stands only on floor the map has seen: with unknown space
+    // counted as free, a cell beside a sofa whose inside was never seen
+    // would otherwise get an anchor inside the sofa.
+    let seen = |px: i64, py: i64| {
+        let res = map.res_mm().max(1) as i64;
+        map.state(px.div_euclid(res) as i32, py.div_euclid(res) as i32) == CellState::Free
+    };
+    if seen(cx, cy) && !disc_blocked(map, cx, cy, r, unknown_blocks) {
         return Some((cx, cy));
     }
     let res = map.res_mm().max(1) as i64;
@@ -119,6 +127,7 @@ pub fn coarse_anchor<const EV: usize>(
             let d = (px - cx).pow(2) + (py - cy).pow(2);
             if inside
                 && best.is_none_or(|(b, _)| d < b)
+                && seen(px, py)
                 && !disc_blocked(map, px, py, r, unknown_blocks)
             {
                 best = Some((d, (px, py)));

@@ -85,7 +85,7 @@ pub const QUEUE: usize = 48;
 const MAP_POINTS: usize = 64;
 /// Sub-paths given up and put back for a later pass, at most, per mission
 /// (a spot a person keeps blocking is not retried for ever).
-pub const MAX_RETRIES: u32 = 100;
+pub const MAX_RETRIES: u32 = 400;
 
 /// Where the map comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -305,6 +305,8 @@ pub struct Counters {
     /// Legs re-planned from where the robot stood after the guard held it
     /// (a wall the plan did not know of, or odometry drift).
     pub replans: u32,
+    /// Times the planner's given-up goals were tried again.
+    pub abandoned_retries: u32,
     /// Control ticks spent backing away from something at touching
     /// distance.
     pub escapes: u32,
@@ -412,6 +414,8 @@ pub struct Mission {
     replan_target: Option<(i32, i32)>,
     replan_count: u8,
     reopens: u32,
+    edge_reopens: u32,
+    abandon_rounds: u8,
     counters: Counters,
 }
 
@@ -507,10 +511,13 @@ impl Mission {
             replan_target: None,
             replan_count: 0,
             reopens: 0,
+            edge_reopens: 0,
+            abandon_rounds: 0,
             counters: Counters {
                 replans: 0,
                 retried: 0,
                 escapes: 0,
+                abandoned_retries: 0,
                 avoidance_events: 0,
                 dwa_no_admissible: 0,
                 lidar_silences: 0,
@@ -1164,7 +1171,17 @@ impl<
                     self.enqueue(to, w.kind == SegmentKind::Cover);
                 }
                 Ok(Step::Pending) => break,
-                Ok(Step::Done) => self.m.planner_done = true,
+                Ok(Step::Done) => {
+                    // Goals given up while the map was different (a person
+                    // in a doorway) get up to two more chances.
+                    let at = self.p.planner.position();
+                    if self.m.abandon_rounds < 2 && self.p.planner.retry_abandoned(at) > 0 {
+                        self.m.abandon_rounds += 1;
+                        self.m.counters.abandoned_retries += 1;
+                    } else {
+                        self.m.planner_done = true;
+                    }
+                }
                 Err(CoverageError::Search(SearchError::StartBlocked)) => {
                     // The map moved under the planner: free its cell and
                     // try again next step.
@@ -1389,6 +1406,13 @@ impl<
         let m = &mut *self.m;
         if !cover || m.reopens >= MAX_RETRIES {
             return;
+        }
+        if m.phase == Phase::Edge {
+            // The edge pass retries at most a tenth as often.
+            if m.edge_reopens >= MAX_RETRIES / 10 {
+                return;
+            }
+            m.edge_reopens += 1;
         }
         let len = dist_mm(seg.from, seg.to);
         let mut any = false;
@@ -1645,10 +1669,14 @@ impl<
 }
 
 /// True when the map explains a lidar point: an occupied cell within two
-/// cells of it (100 mm: odometry drift over a room's length).
+/// cells of it (100 mm: odometry drift over a room's length), or the point
+/// lies where the map knows nothing yet (new map, not an intruder). A point
+/// is unexplained only in space the map has seen free: a person, a moved
+/// chair.
 fn explained<const EV: usize>(map: &EvidenceMap<EV>, q: (i32, i32)) -> bool {
     let (cx, cy) = map.cell_of(q.0, q.1);
-    (-2..=2).any(|dy| (-2..=2).any(|dx| map.state(cx + dx, cy + dy) == CellState::Occupied))
+    map.state(cx, cy) == CellState::Unknown
+        || (-2..=2).any(|dy| (-2..=2).any(|dx| map.state(cx + dx, cy + dy) == CellState::Occupied))
 }
 
 /// True when a disc of `radius_mm` slides from `a` to `b` (world mm)

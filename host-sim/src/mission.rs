@@ -459,6 +459,7 @@ pub fn report_json(rep: &MissionReport) -> serde_json::Value {
             "replans": c.replans,
             "guard_ticks": c.guard_ticks,
             "escape_ticks": c.escapes,
+            "abandoned_retries": c.abandoned_retries,
             "retried": c.retried,
             "scans": c.scans,
             "plan_steps": c.plan_steps,
