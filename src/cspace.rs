@@ -58,8 +58,14 @@ pub fn disc_blocked<const EV: usize>(
 ) -> bool {
     let res = map.res_mm().max(1) as i64;
     let r2 = radius_mm * radius_mm;
-    let (c0x, c1x) = ((px - radius_mm).div_euclid(res), (px + radius_mm).div_euclid(res));
-    let (c0y, c1y) = ((py - radius_mm).div_euclid(res), (py + radius_mm).div_euclid(res));
+    let (c0x, c1x) = (
+        (px - radius_mm).div_euclid(res),
+        (px + radius_mm).div_euclid(res),
+    );
+    let (c0y, c1y) = (
+        (py - radius_mm).div_euclid(res),
+        (py + radius_mm).div_euclid(res),
+    );
     for cy in c0y..=c1y {
         for cx in c0x..=c1x {
             if square_dist2(px, py, cx, cy, res) < r2
@@ -231,11 +237,19 @@ pub fn coarse_centre_mm<const EV: usize>(
 ) -> (i32, i32) {
     let c = cell_mm as i64;
     let hmm = map.height() as i64 * map.res_mm() as i64;
-    ((gx as i64 * c + c / 2) as i32, (hmm - (gy as i64 * c + c / 2)) as i32)
+    (
+        (gx as i64 * c + c / 2) as i32,
+        (hmm - (gy as i64 * c + c / 2)) as i32,
+    )
 }
 
 /// The coarse cell of world point (x, y) mm (may be off the grid).
-pub fn coarse_of<const EV: usize>(map: &EvidenceMap<EV>, cell_mm: u32, x_mm: i32, y_mm: i32) -> (i32, i32) {
+pub fn coarse_of<const EV: usize>(
+    map: &EvidenceMap<EV>,
+    cell_mm: u32,
+    x_mm: i32,
+    y_mm: i32,
+) -> (i32, i32) {
     let c = cell_mm.max(1) as i64;
     let hmm = map.height() as i64 * map.res_mm() as i64;
     (

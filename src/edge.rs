@@ -267,7 +267,9 @@ impl EdgePass {
                     Err(e) => return Err(e),
                 },
                 Phase::Transit => {
-                    let Some(&next) = path.get(self.path_pos).filter(|_| self.path_pos < self.path_len)
+                    let Some(&next) = path
+                        .get(self.path_pos)
+                        .filter(|_| self.path_pos < self.path_len)
                     else {
                         let (x, y) = self.last.xy();
                         if todo(fine, x, y) {

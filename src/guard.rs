@@ -71,7 +71,8 @@ pub fn limit_speed(p: &GuardParams, v_mm_s: i32, free_mm: i32) -> i32 {
         return 0;
     }
     let room = (free_mm as i64 - p.reserve_mm as i64).max(0);
-    let cap = isqrt_u64((2 * p.brake_mm_s2.max(0) as i64 * room) as u64).min(i32::MAX as u64) as i32;
+    let cap =
+        isqrt_u64((2 * p.brake_mm_s2.max(0) as i64 * room) as u64).min(i32::MAX as u64) as i32;
     let cap = if cap < p.creep_mm_s { 0 } else { cap };
     v_mm_s.clamp(-cap, cap)
 }

@@ -298,8 +298,10 @@ pub fn beams(
 ) {
     let th = pose.theta_mrad as i64 * 1000;
     let (s, c) = sin_cos_q30(th);
-    let ox = pose.x_mm as i64 + ((mount.offset_x_mm as i64 * c - mount.offset_y_mm as i64 * s) >> 30);
-    let oy = pose.y_mm as i64 + ((mount.offset_x_mm as i64 * s + mount.offset_y_mm as i64 * c) >> 30);
+    let ox =
+        pose.x_mm as i64 + ((mount.offset_x_mm as i64 * c - mount.offset_y_mm as i64 * s) >> 30);
+    let oy =
+        pose.y_mm as i64 + ((mount.offset_x_mm as i64 * s + mount.offset_y_mm as i64 * c) >> 30);
     for p in frame.points() {
         if p.dist_mm == 0 || p.dist_mm < mount.min_range_mm {
             continue;

@@ -212,6 +212,13 @@ pub struct MissionConfig {
     pub subpath_timeout_us: u64,
     /// Stall retries before a sub-path is dropped.
     pub stall_retries: u8,
+    /// Known mode: keep ray-casting the lidar into the prior map, so what
+    /// the robot sees (in its own, possibly drifting, frame) is planned
+    /// around. Off: the prior map is fixed.
+    pub map_known_updates: bool,
+    /// Cleaning time before the robot heads home whatever is left (the
+    /// battery's share for cleaning), µs.
+    pub battery_us: u64,
     /// Closer than this to two lidar points (beyond the radius), the robot
     /// stops turning and backs straight away from them, mm.
     pub escape_mm: i32,
@@ -266,6 +273,8 @@ impl MissionConfig {
             subpath_timeout_us: 30_000_000,
             stall_retries: 2,
             escape_mm: 0,
+            battery_us: 75 * 60 * 1_000_000,
+            map_known_updates: true,
         }
     }
 
@@ -305,6 +314,8 @@ pub struct Counters {
     /// Legs re-planned from where the robot stood after the guard held it
     /// (a wall the plan did not know of, or odometry drift).
     pub replans: u32,
+    /// Missions cut short by the battery budget.
+    pub battery_returns: u32,
     /// Times the planner's given-up goals were tried again.
     pub abandoned_retries: u32,
     /// Control ticks spent backing away from something at touching
@@ -416,6 +427,7 @@ pub struct Mission {
     reopens: u32,
     edge_reopens: u32,
     abandon_rounds: u8,
+    started_us: u64,
     counters: Counters,
 }
 
@@ -513,11 +525,13 @@ impl Mission {
             reopens: 0,
             edge_reopens: 0,
             abandon_rounds: 0,
+            started_us: 0,
             counters: Counters {
                 replans: 0,
                 retried: 0,
                 escapes: 0,
                 abandoned_retries: 0,
+                battery_returns: 0,
                 avoidance_events: 0,
                 dwa_no_admissible: 0,
                 lidar_silences: 0,
@@ -573,10 +587,14 @@ impl Mission {
     /// mm, mapped or not).
     pub fn points_near(&self, r_mm: i64) -> impl Iterator<Item = (i32, i32, bool)> + '_ {
         let pose = self.odom.pose();
-        self.ring.iter().take(self.ring_len).copied().filter(move |&(x, y, _)| {
-            let (dx, dy) = ((x - pose.x_mm) as i64, (y - pose.y_mm) as i64);
-            dx * dx + dy * dy < r_mm * r_mm
-        })
+        self.ring
+            .iter()
+            .take(self.ring_len)
+            .copied()
+            .filter(move |&(x, y, _)| {
+                let (dx, dy) = ((x - pose.x_mm) as i64, (y - pose.y_mm) as i64);
+                dx * dx + dy * dy < r_mm * r_mm
+            })
     }
 
     /// The last DWA command (v mm/s, ω mrad/s) while avoiding.
@@ -703,7 +721,7 @@ impl Mission {
             });
             if self.asm.push(&frame, pose, &mut self.scan) {
                 self.counters.scans += 1;
-                if self.cfg.mode == MapMode::Unknown {
+                if self.cfg.mode == MapMode::Unknown || self.cfg.map_known_updates {
                     parts.map.integrate_scan(&self.scan, &self.cfg.mount);
                     self.map_dirty = true;
                     self.fine_stale = true;
@@ -733,10 +751,8 @@ impl Mission {
     /// How far the guard would let the robot drive from `here` straight
     /// toward `target` (after its reserves), mm.
     fn free_toward(&self, here: (i32, i32), target: (i32, i32)) -> i64 {
-        let toward = crate::angle::atan2_urad(
-            (target.1 - here.1) as i64,
-            (target.0 - here.0) as i64,
-        );
+        let toward =
+            crate::angle::atan2_urad((target.1 - here.1) as i64, (target.0 - here.0) as i64);
         let facing = Pose {
             x_mm: here.0,
             y_mm: here.1,
@@ -760,7 +776,10 @@ impl Mission {
 
     /// The latest lidar hits, world mm.
     fn points(&self) -> impl Iterator<Item = (i32, i32)> + '_ {
-        self.ring.iter().take(self.ring_len).map(|&(x, y, _)| (x, y))
+        self.ring
+            .iter()
+            .take(self.ring_len)
+            .map(|&(x, y, _)| (x, y))
     }
 
     /// The latest lidar hits the map explains (walls, furniture) or not
@@ -793,6 +812,7 @@ impl<
             if let Phase::SelfTestScan { since_us } = &mut m.phase {
                 *since_us = now_us;
             }
+            m.started_us = now_us;
             return MotorCmd::Brake;
         };
         let dt_us = now_us.saturating_sub(last).max(1);
@@ -908,7 +928,9 @@ impl<
             v = lim;
         }
         let m = &mut *self.m;
-        let (dl, dr) = m.wheels.step(v, w, meas[0], meas[1], d[0] != 0, d[1] != 0, dt_us as u32);
+        let (dl, dr) = m
+            .wheels
+            .step(v, w, meas[0], meas[1], d[0] != 0, d[1] != 0, dt_us as u32);
         if m.wheels.fault().is_some() {
             m.wheels.clear_fault();
             m.counters.stalls += 1;
@@ -987,7 +1009,8 @@ impl<
         let m = &mut *self.m;
         if let Some((seg, _)) = m.queue.front() {
             if stalled && m.phase == Phase::Cover {
-                let (gx, gy) = cspace::coarse_of(self.p.map, m.cfg.plan_cell_mm, seg.to.0, seg.to.1);
+                let (gx, gy) =
+                    cspace::coarse_of(self.p.map, m.cfg.plan_cell_mm, seg.to.0, seg.to.1);
                 if self.p.coarse.set_obstacle(gx, gy, true).is_ok() {
                     m.counters.blocked_cells += 1;
                 }
@@ -1012,6 +1035,19 @@ impl<
             m.phase,
             Phase::Cover | Phase::Edge | Phase::ReturnSearch | Phase::Return
         );
+        // Battery: after the cleaning budget, go home.
+        if matches!(m.phase, Phase::Cover | Phase::Edge)
+            && now_us.saturating_sub(m.started_us) > m.cfg.battery_us
+        {
+            m.counters.battery_returns += 1;
+            m.feed = None;
+            m.activity = Activity::Follow;
+            m.queue.reset((pose.x_mm, pose.y_mm));
+            m.fine_is_edge = false;
+            self.begin_return(pose);
+            return;
+        }
+        let m = &mut *self.m;
         if driving
             && m.activity == Activity::Follow
             && m.guard_block_since
@@ -1104,7 +1140,7 @@ impl<
     /// cell stays free so it can always search from it).
     fn refresh_coarse(&mut self) {
         let m = &mut *self.m;
-        if m.cfg.mode != MapMode::Unknown || !m.map_dirty {
+        if !m.map_dirty {
             return;
         }
         m.map_dirty = false;
@@ -1262,7 +1298,8 @@ impl<
                 Ok(Progress::Found(_)) => match search.write_path(self.p.path) {
                     Ok(n) => {
                         let r = (self.m.cfg.radius_mm + self.m.cfg.margin_mm / 2) as i64;
-                        f.len = prune_clear(self.p.map, self.p.path.get_mut(..n).unwrap_or(&mut []), r);
+                        f.len =
+                            prune_clear(self.p.map, self.p.path.get_mut(..n).unwrap_or(&mut []), r);
                         f.searching = false;
                     }
                     Err(_) => {
@@ -1375,7 +1412,8 @@ impl<
         let from = m.queue.last_end().unwrap_or((pose.x_mm, pose.y_mm));
         let home = (m.start.x_mm, m.start.y_mm);
         let a = nearest_free_fine(self.p.map, self.p.fine, from);
-        let b = nearest_free_fine(self.p.map, self.p.fine, home);
+        // The dock may have been mapped a little off (drift): look wider.
+        let b = nearest_free_fine_within(self.p.map, self.p.fine, home, 10);
         let (Some(a), Some(b)) = (a, b) else {
             self.fail(Fault::NoWayHome);
             return;
@@ -1439,7 +1477,9 @@ impl<
                 if any {
                     let at = m.queue.last_end().unwrap_or(seg.to);
                     let (gx, gy) = cspace::coarse_of(self.p.map, cell, at.0, at.1);
-                    if let Some(c) = Cell::from_xy(gx, gy).filter(|c| self.p.coarse.is_free(c.x as i32, c.y as i32)) {
+                    if let Some(c) = Cell::from_xy(gx, gy)
+                        .filter(|c| self.p.coarse.is_free(c.x as i32, c.y as i32))
+                    {
                         self.p.planner.reopen(c);
                     }
                     m.planner_done = false;
@@ -1572,7 +1612,7 @@ impl<
                     .points_where(false)
                     .any(|q| in_corridor(here, ahead, q, reach));
                 let free = m.free_toward(here, seg.to);
-                if !unexplained && free as i64 >= 250.min(total) {
+                if !unexplained && free >= 250.min(total) {
                     m.activity = Activity::Follow;
                     m.subpath_since_us = now_us;
                     // Rejoin straight when the map allows it, else by a
@@ -1616,8 +1656,9 @@ impl<
             let q = if mapped {
                 (rx, ry)
             } else {
-                let d = crate::cost::isqrt_u64((rx as i64 * rx as i64 + ry as i64 * ry as i64) as u64)
-                    .max(1) as i64;
+                let d =
+                    crate::cost::isqrt_u64((rx as i64 * rx as i64 + ry as i64 * ry as i64) as u64)
+                        .max(1) as i64;
                 let k = (d - extra).max(0);
                 ((rx as i64 * k / d) as i32, (ry as i64 * k / d) as i32)
             };
@@ -1699,16 +1740,17 @@ pub fn segment_clear<const EV: usize>(
     })
 }
 
-/// The free fine cell nearest to world point `p` within 3 cells.
-fn nearest_free_fine<const EV: usize, const GW: usize>(
+/// The free fine cell nearest to world point `p` within `reach` cells.
+fn nearest_free_fine_within<const EV: usize, const GW: usize>(
     map: &EvidenceMap<EV>,
     fine: &Grid<GW>,
     p: (i32, i32),
+    reach: i32,
 ) -> Option<Cell> {
     let (cx, cy) = map.cell_of(p.0, p.1);
     let mut best: Option<(i64, Cell)> = None;
-    for dy in -3..=3 {
-        for dx in -3..=3 {
+    for dy in -reach..=reach {
+        for dx in -reach..=reach {
             let (x, y) = (cx + dx, cy + dy);
             if !fine.is_free(x, y) {
                 continue;
@@ -1726,7 +1768,11 @@ fn nearest_free_fine<const EV: usize, const GW: usize>(
 /// of the points 40, 20, 10, 5 and 2 cells on that a disc of `radius_mm`
 /// reaches in a straight line ([`segment_clear`]), else the next point.
 /// Returns the new length. Work: at most 5 segment checks per kept point.
-pub fn prune_clear<const EV: usize>(map: &EvidenceMap<EV>, path: &mut [Cell], radius_mm: i64) -> usize {
+pub fn prune_clear<const EV: usize>(
+    map: &EvidenceMap<EV>,
+    path: &mut [Cell],
+    radius_mm: i64,
+) -> usize {
     let n = path.len();
     if n <= 2 {
         return n;
@@ -1761,4 +1807,13 @@ pub fn prune_clear<const EV: usize>(map: &EvidenceMap<EV>, path: &mut [Cell], ra
 
 fn seg_to<const C: usize>(q: &SubPaths<C>) -> (i32, i32) {
     q.front().map(|(s, _)| s.to).unwrap_or((0, 0))
+}
+
+/// The free fine cell nearest to world point `p` within 3 cells.
+fn nearest_free_fine<const EV: usize, const GW: usize>(
+    map: &EvidenceMap<EV>,
+    fine: &Grid<GW>,
+    p: (i32, i32),
+) -> Option<Cell> {
+    nearest_free_fine_within(map, fine, p, 3)
 }

@@ -397,7 +397,12 @@ fn run(cli: Cli) -> Result<(), String> {
                 kind,
                 lidar_gap_s: lidar_gap,
             };
-            cmd_mission(&opts, &map.map.display().to_string(), json.as_deref(), svg.as_deref())
+            cmd_mission(
+                &opts,
+                &map.map.display().to_string(),
+                json.as_deref(),
+                svg.as_deref(),
+            )
         }
         Cmd::Bench {
             which: BenchCmd::WheelStep { seed },
@@ -1041,14 +1046,20 @@ fn cmd_mission(
     let tty = std::io::stderr().is_terminal();
     let (rep, trace, floor) = run_mission(opts, |t, state, cov| {
         if tty {
-            eprint!("\r  {t:>6.0} s simulated · {state:?} · {:.1} % swept      ", 100.0 * cov);
+            eprint!(
+                "\r  {t:>6.0} s simulated · {state:?} · {:.1} % swept      ",
+                100.0 * cov
+            );
         }
     })
     .map_err(|e| format!("{name}: {e}"))?;
     if tty {
         eprintln!();
     }
-    println!("mission on {name} ({:?} map, {} people, seed {}):", opts.mode, opts.people, opts.seed);
+    println!(
+        "mission on {name} ({:?} map, {} people, seed {}):",
+        opts.mode, opts.people, opts.seed
+    );
     println!("  {}", summary(&rep));
     if let Some(f) = json {
         write_file(f, &report_json(&rep).to_string())?;
@@ -1058,7 +1069,10 @@ fn cmd_mission(
             "mission on {name}: {:?} map, {} people, noise {:?}, seed {}",
             opts.mode, opts.people, opts.noise, opts.seed
         );
-        write_file(f, &mission_svg(&opts.map, opts.cell_m, &floor, &trace, &rep, &title))?;
+        write_file(
+            f,
+            &mission_svg(&opts.map, opts.cell_m, &floor, &trace, &rep, &title),
+        )?;
     }
     Ok(())
 }
@@ -1079,14 +1093,24 @@ fn cmd_demo() -> Result<(), String> {
         kind: robovac::coverage::PlannerKind::BOha,
         lidar_gap_s: None,
     };
-    println!("robovac demo: the firmware's mission executive cleans a 9.6 m × 7.2 m furnished flat");
-    println!("(living room, kitchen, hallway, two bedrooms, bathroom) while two people walk about.");
+    println!(
+        "robovac demo: the firmware's mission executive cleans a 9.6 m × 7.2 m furnished flat"
+    );
+    println!(
+        "(living room, kitchen, hallway, two bedrooms, bathroom) while two people walk about."
+    );
     let tty = std::io::stdout().is_terminal();
     let (rep, trace, floor) = run_mission(&opts, |t, state, cov| {
         if tty {
-            print!("\r  {t:>6.0} s simulated · {state:?} · {:.1} % of the floor swept      ", 100.0 * cov);
+            print!(
+                "\r  {t:>6.0} s simulated · {state:?} · {:.1} % of the floor swept      ",
+                100.0 * cov
+            );
         } else if (t as u64).is_multiple_of(300) {
-            println!("  {t:>6.0} s simulated · {state:?} · {:.1} % of the floor swept", 100.0 * cov);
+            println!(
+                "  {t:>6.0} s simulated · {state:?} · {:.1} % of the floor swept",
+                100.0 * cov
+            );
         }
         let _ = std::io::stdout().flush();
     })?;
@@ -1103,7 +1127,9 @@ fn cmd_demo() -> Result<(), String> {
         "robovac demo: known map, two people walking, ideal sensors",
     );
     write_file(Path::new("demo.svg"), &svg)?;
-    println!("  picture: demo.svg (swept floor green, missed red, the robot's path blue, people orange)");
+    println!(
+        "  picture: demo.svg (swept floor green, missed red, the robot's path blue, people orange)"
+    );
     Ok(())
 }
 
@@ -1152,7 +1178,10 @@ fn cmd_bench_missions(
     for (c, r) in cases.iter().zip(&results) {
         match r {
             Ok(rep) => rows.push((c, rep)),
-            Err(e) => failures.push(format!("{} {:?} {} people seed {}: {e}", c.map, c.mode, c.people, c.seed)),
+            Err(e) => failures.push(format!(
+                "{} {:?} {} people seed {}: {e}",
+                c.map, c.mode, c.people, c.seed
+            )),
         }
     }
     println!(
@@ -1163,11 +1192,28 @@ fn cmd_bench_missions(
     );
     println!(
         "{:<7} {:<8} {:<10} {:>3} {:>8} {:>8} {:>9} {:>9} {:>6} {:>5} {:>6} {:>6} {:>7} {:>7}",
-        "map", "mode", "noise", "n", "finished", "returned", "cover avg", "cover min", "repet", "coll", "people", "avoid", "t/ideal", "sim×"
+        "map",
+        "mode",
+        "noise",
+        "n",
+        "finished",
+        "returned",
+        "cover avg",
+        "cover min",
+        "repet",
+        "coll",
+        "people",
+        "avoid",
+        "t/ideal",
+        "sim×"
     );
     let mut groups: Vec<(String, String, String)> = Vec::new();
     for (c, _) in &rows {
-        let k = (c.map.to_string(), format!("{:?}", c.mode).to_lowercase(), format!("{:?}", c.noise).to_lowercase());
+        let k = (
+            c.map.to_string(),
+            format!("{:?}", c.mode).to_lowercase(),
+            format!("{:?}", c.noise).to_lowercase(),
+        );
         if !groups.contains(&k) {
             groups.push(k);
         }
@@ -1183,7 +1229,9 @@ fn cmd_bench_missions(
             .map(|(_, r)| *r)
             .collect();
         let n = sel.len() as f64;
-        let mean = |f: &dyn Fn(&host_sim::mission::MissionReport) -> f64| sel.iter().map(|r| f(r)).sum::<f64>() / n;
+        let mean = |f: &dyn Fn(&host_sim::mission::MissionReport) -> f64| {
+            sel.iter().map(|r| f(r)).sum::<f64>() / n
+        };
         println!(
             "{:<7} {:<8} {:<10} {:>3} {:>8} {:>8} {:>8.2}% {:>8.2}% {:>6.2} {:>5} {:>6} {:>6.1} {:>7.2} {:>7.0}",
             g.0,
@@ -1203,8 +1251,14 @@ fn cmd_bench_missions(
         );
     }
     let total_coll: usize = rows.iter().map(|(_, r)| r.collisions).sum();
-    println!("collisions (the robot moving into something): {total_coll} over {} missions", rows.len());
-    for (mode, label) in [(robovac::mission::MapMode::Known, "known"), (robovac::mission::MapMode::Unknown, "unknown")] {
+    println!(
+        "collisions (the robot moving into something): {total_coll} over {} missions",
+        rows.len()
+    );
+    for (mode, label) in [
+        (robovac::mission::MapMode::Known, "known"),
+        (robovac::mission::MapMode::Unknown, "unknown"),
+    ] {
         let sel: Vec<_> = rows
             .iter()
             .filter(|(c, _)| c.mode == mode && c.noise == host_sim::robot::Noise::None)

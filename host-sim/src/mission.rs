@@ -215,10 +215,7 @@ pub fn run_mission(
         let res = EVIDENCE_MM as f64 / 1000.0;
         for cy in 0..eh as i32 {
             for cx in 0..ew as i32 {
-                let (x, y) = (
-                    (cx as f64 + 0.5) * res,
-                    (eh as f64 - cy as f64 - 0.5) * res,
-                );
+                let (x, y) = ((cx as f64 + 0.5) * res, (eh as f64 - cy as f64 - 0.5) * res);
                 let st = if sim.world.blocked_at(x, y) {
                     CellState::Occupied
                 } else {
@@ -339,7 +336,7 @@ pub fn run_mission(
             last_avoid = c.avoidance_events;
             trace.avoidances.push((x, y));
         }
-        if trace_on && sim.t_us % 1_000_000 == 0 {
+        if trace_on && sim.t_us.is_multiple_of(1_000_000) {
             eprintln!(
                 "t {:.0} {:?} {:?} truth ({:.2},{:.2},{:.2}) dwa {:?} front {:?} {:?}",
                 sim.t_us as f64 * 1e-6,
@@ -353,10 +350,23 @@ pub fn run_mission(
                 mission.counters()
             );
             for p in &sim.world.people {
-                eprintln!("   person ({:.2},{:.2}) waited {:.1}", p.pos.0, p.pos.1, p.waited_s);
+                eprintln!(
+                    "   person ({:.2},{:.2}) waited {:.1}",
+                    p.pos.0, p.pos.1, p.waited_s
+                );
             }
-            eprintln!("   pose {:?} near {:?}", mission.pose(), mission.points_near(260).take(4).collect::<Vec<_>>());
-            eprintln!("   planner nodes {} {:?} pos {:?} list {}", parts.planner.last_step_nodes(), parts.planner.stats(), parts.planner.position(), parts.planner.backtrack_list().len());
+            eprintln!(
+                "   pose {:?} near {:?}",
+                mission.pose(),
+                mission.points_near(260).take(4).collect::<Vec<_>>()
+            );
+            eprintln!(
+                "   planner nodes {} {:?} pos {:?} list {}",
+                parts.planner.last_step_nodes(),
+                parts.planner.stats(),
+                parts.planner.position(),
+                parts.planner.backtrack_list().len()
+            );
         }
         if sim.t_us >= next_progress {
             next_progress += 10_000_000;
@@ -390,8 +400,7 @@ pub fn run_mission(
     rep.coverage = floor.coverage();
     rep.distance_m = sim.distance_m;
     let swept = floor.swept_area_m2().max(1e-9);
-    rep.repetition =
-        (rep.distance_m * cfg.diameter_m + std::f64::consts::PI * r * r) / swept - 1.0;
+    rep.repetition = (rep.distance_m * cfg.diameter_m + std::f64::consts::PI * r * r) / swept - 1.0;
     rep.collisions = sim.collisions.iter().filter(|c| !c.by_person).count();
     rep.person_contacts = sim.collisions.iter().filter(|c| c.by_person).count();
     rep.avoidance_events = c.avoidance_events;
@@ -411,6 +420,9 @@ pub fn run_mission(
         ("blocked_cells".to_string(), c.blocked_cells as u64),
         ("skipped_subpaths".to_string(), c.skipped as u64),
     ];
+    if c.battery_returns > 0 {
+        faults.push(("battery: cleaning cut short".to_string(), 1));
+    }
     if let State::Failed(f) = state {
         faults.push((format!("failed: {}", f.as_str()), 1));
     }
@@ -423,7 +435,11 @@ pub fn run_mission(
     }
     trace.truth = std::mem::take(&mut sim.trajectory);
     trace.people = sim.world.people.iter().map(|p| p.track.clone()).collect();
-    trace.collisions = sim.collisions.iter().map(|c| (c.pos, c.by_person)).collect();
+    trace.collisions = sim
+        .collisions
+        .iter()
+        .map(|c| (c.pos, c.by_person))
+        .collect();
     rep.wall_time_s = t0.elapsed().as_secs_f64();
     Ok((rep, trace, floor))
 }

@@ -305,7 +305,11 @@ impl Sim {
                     let (ux, uy) = (ox / dist, oy / dist);
                     let robot_v = ((nx - x) * ux + (ny - y) * uy) / dt;
                     let person_v = p.approach_speed(x, y);
+                    // Already touching (the person walked into or through
+                    // the robot): not the robot's doing.
+                    let touching = dist < p.radius_m + r;
                     (p.pos.0 - nx).hypot(p.pos.1 - ny) < p.radius_m + r
+                        && !touching
                         && robot_v > 0.005
                         && robot_v >= person_v
                 });

@@ -106,8 +106,14 @@ impl World {
     /// edge), searched up to `max` (returns `max` when nothing is nearer).
     pub fn wall_distance(&self, x: f64, y: f64, max: f64) -> f64 {
         let c = self.cell_m;
-        let (x0, x1) = (((x - max) / c).floor() as i32, ((x + max) / c).floor() as i32);
-        let (y0, y1) = (((y - max) / c).floor() as i32, ((y + max) / c).floor() as i32);
+        let (x0, x1) = (
+            ((x - max) / c).floor() as i32,
+            ((x + max) / c).floor() as i32,
+        );
+        let (y0, y1) = (
+            ((y - max) / c).floor() as i32,
+            ((y + max) / c).floor() as i32,
+        );
         let mut best = max * max;
         for gy in y0..=y1 {
             for gx in x0..=x1 {
