@@ -7,9 +7,15 @@
 //! and in `host-sim`.
 //!
 //! The algorithms follow the project's digest `ALGORITHMS.md` (seed 000 for
-//! OHA* and pruning, seed 004 for A*). Each algorithm lives in a file named
-//! for it; the machinery they share (grid, open list, line of sight, costs,
-//! the search loop) is written once.
+//! OHA*, pruning and B-OHA*, seed 004 for A*, seed 002 for DWA and path
+//! following). Each algorithm lives in a file named for it; the machinery
+//! they share (grid, open list, line of sight, costs, the search loop,
+//! configuration space) is written once.
+//!
+//! The robot side: hardware traits ([`hal`]), odometry, wheel control, the
+//! LD06 lidar parser and scan assembly, the evidence map, and the mission
+//! executive ([`mission`]) that runs a cleaning mission from sensor bytes
+//! to motor duties, with time passed in.
 //!
 //! No function in this crate panics on any input: off-map coordinates read as
 //! blocked, capacities are checked and reported as typed errors.

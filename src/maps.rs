@@ -56,7 +56,7 @@ impl SplitMix64 {
 
 /// Parameters of the random-obstacle map used for seed 000's Table 1.
 ///
-/// The paper does not describe its obstacles ([open]); ours are axis-aligned
+/// The paper does not describe its obstacles (\[open\]); ours are axis-aligned
 /// rectangles with sides of 1 to `max_side` cells dropped uniformly at
 /// random until at least `density_pct` percent of the cells are blocked.
 #[derive(Clone, Copy, Debug)]

@@ -14,7 +14,7 @@
 //! 64-bit division, no floating point. The result is clamped to
 //! [h, 3h] so rounding can never take it outside the paper's range.
 //!
-//! **Multi-goal** ([open] in ALGORITHMS.md §1; our choice): h is the
+//! **Multi-goal** (\[open\] in ALGORITHMS.md §1; our choice): h is the
 //! distance to the nearest goal and θ is taken toward that same goal.
 
 use crate::astar::nearest_goal;

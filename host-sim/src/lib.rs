@@ -3,7 +3,6 @@
 //! only supplies files, big capacities and reports.
 
 pub mod bench;
-pub mod demo;
 pub mod drive;
 pub mod floor;
 pub mod maps;

@@ -144,11 +144,65 @@ fn table1_small_run_keeps_the_papers_order() {
 }
 
 #[test]
-fn demo_runs() {
-    let out = bin().arg("demo").output().unwrap();
-    assert!(out.status.success());
+fn demo_runs_a_whole_mission_and_writes_its_picture() {
+    let dir = std::env::temp_dir().join(format!("robovac-cli-demo-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = bin().arg("demo").current_dir(&dir).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let s = String::from_utf8_lossy(&out.stdout);
-    assert!(s.contains("nodes expanded") && s.contains('S') && s.contains('G'));
+    assert!(s.contains("finished true") && s.contains("back at start true"), "{s}");
+    assert!(s.contains("collisions 0"), "{s}");
+    let svg = std::fs::read_to_string(dir.join("demo.svg")).unwrap();
+    assert!(svg.starts_with("<svg") && svg.contains("coverage") && svg.contains("polyline"));
+}
+
+#[test]
+fn mission_reports_json_and_rejects_bad_input() {
+    let dir = std::env::temp_dir().join(format!("robovac-cli-m-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let map = repo().join("maps/flat/studio.txt");
+    let (j, svg) = (dir.join("m.json"), dir.join("m.svg"));
+    let out = bin()
+        .args(["mission", "--map"])
+        .arg(&map)
+        .args(["--mode", "known", "--people", "1", "--seed", "4", "--json"])
+        .arg(&j)
+        .arg("--svg")
+        .arg(&svg)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&j).unwrap()).unwrap();
+    for k in [
+        "finished",
+        "returned_to_start",
+        "coverage",
+        "repetition",
+        "collisions",
+        "min_clearance_m",
+        "distance_m",
+        "avoidance_events",
+        "sim_time_s",
+        "wall_time_s",
+        "faults",
+    ] {
+        assert!(v.get(k).is_some(), "JSON lacks {k}");
+    }
+    assert_eq!(v["collisions"], 0);
+    assert!(std::fs::read_to_string(&svg).unwrap().contains("people"));
+    for args in [
+        vec!["mission", "--map", "no/such/map.txt"],
+        vec!["mission", "--map", map.to_str().unwrap(), "--start", "a,b"],
+        vec!["mission", "--map", map.to_str().unwrap(), "--start", "0.05,0.05"],
+        vec!["mission", "--map", map.to_str().unwrap(), "--max-time", "-3"],
+        vec!["mission", "--map", map.to_str().unwrap(), "--planner", "zigzag"],
+        vec!["bench", "missions", "--runs", "0"],
+    ] {
+        let out = bin().args(&args).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
 }
 
 #[test]

@@ -1,0 +1,113 @@
+//! Whole missions in closed loop: the core's executive driving the twin.
+//! Outcomes are checked against the ground truth, independently of what
+//! the executive reports: the true trajectory never overlaps a wall, its
+//! length matches the distance reported, coverage is measured on the
+//! truth, the robot ends at the dock.
+
+use host_sim::mission::{run_mission, suite_map, MissionOptions, MissionReport, MissionTrace};
+use host_sim::robot::{Noise, RobotConfig};
+use host_sim::world::World;
+use robovac::coverage::PlannerKind;
+use robovac::mission::MapMode;
+
+fn opts(map: &str, mode: MapMode, people: usize, noise: Noise, seed: u64) -> MissionOptions {
+    MissionOptions {
+        map: suite_map(map).unwrap(),
+        cell_m: 0.1,
+        mode,
+        people,
+        noise,
+        seed,
+        max_time_s: 5400.0,
+        start: None,
+        kind: PlannerKind::BOha,
+        lidar_gap_s: None,
+    }
+}
+
+/// Independent checks on the truth.
+fn check_truth(o: &MissionOptions, rep: &MissionReport, t: &MissionTrace) {
+    let world = World::new(o.map.clone(), o.cell_m);
+    let r = RobotConfig::default().diameter_m / 2.0;
+    for &(x, y) in &t.truth {
+        assert!(
+            !world.disc_hits_wall(x, y, r - 1e-6),
+            "the body overlaps a wall at ({x:.3}, {y:.3})"
+        );
+    }
+    let len: f64 = t
+        .truth
+        .windows(2)
+        .map(|w| (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1))
+        .sum();
+    assert!(
+        (len - rep.distance_m).abs() < 0.01 * rep.distance_m + 0.05,
+        "trajectory {len:.2} m vs reported {:.2} m",
+        rep.distance_m
+    );
+    assert_eq!(rep.collisions, 0, "the robot moved into something");
+}
+
+#[test]
+fn known_studio_with_a_person_is_cleaned_safely() {
+    let o = opts("studio", MapMode::Known, 1, Noise::None, 2);
+    let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
+    check_truth(&o, &rep, &t);
+    assert!(rep.finished && rep.returned_to_start, "{rep:?}");
+    let end = *t.truth.last().unwrap();
+    assert!((end.0 - t.start.0).hypot(end.1 - t.start.1) < 0.15);
+    assert!(rep.coverage >= 0.97, "coverage {:.4}", rep.coverage);
+    assert!(rep.ideal_time_s > 0.0 && rep.sim_time_s > rep.ideal_time_s);
+}
+
+#[test]
+fn unknown_studio_is_mapped_and_cleaned() {
+    let o = opts("studio", MapMode::Unknown, 0, Noise::None, 1);
+    let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
+    check_truth(&o, &rep, &t);
+    assert!(rep.finished && rep.returned_to_start, "{rep:?}");
+    assert!(rep.coverage >= 0.95, "coverage {:.4}", rep.coverage);
+}
+
+#[test]
+fn realistic_noise_never_collides() {
+    let o = opts("studio", MapMode::Known, 1, Noise::Realistic, 3);
+    let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
+    check_truth(&o, &rep, &t);
+    // Without pose correction the coverage is only reported; it ends.
+    assert!(rep.sim_time_s < o.max_time_s, "{rep:?}");
+}
+
+#[test]
+fn a_silent_lidar_stops_the_motors_and_the_mission_resumes() {
+    let mut o = opts("studio", MapMode::Known, 0, Noise::None, 1);
+    o.lidar_gap_s = Some((60.0, 63.0));
+    let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
+    check_truth(&o, &rep, &t);
+    assert!(
+        rep.counters.lidar_silences >= 1,
+        "silence seen: {:?}",
+        rep.counters
+    );
+    // Samples every 10 ms: stopped from 200 ms into the silence (plus
+    // braking) to its end.
+    let at = |s: f64| t.truth[(s * 100.0) as usize];
+    let (a, b) = (at(60.35), at(62.9));
+    assert!(
+        (a.0 - b.0).hypot(a.1 - b.1) < 0.01,
+        "moved {:.3} m while the lidar was silent",
+        (a.0 - b.0).hypot(a.1 - b.1)
+    );
+    assert!(rep.finished && rep.returned_to_start && rep.coverage >= 0.97);
+}
+
+#[test]
+fn no_lidar_fails_the_self_test_without_moving() {
+    let mut o = opts("studio", MapMode::Known, 0, Noise::None, 1);
+    o.lidar_gap_s = Some((0.0, 100.0));
+    o.max_time_s = 20.0;
+    let (rep, _, _) = run_mission(&o, |_, _, _| {}).unwrap();
+    assert_eq!(rep.final_state, "Failed(SelfTestLidar)");
+    assert!(!rep.finished);
+    assert!(rep.distance_m < 0.001);
+}

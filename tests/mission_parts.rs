@@ -1,0 +1,176 @@
+//! The executive's building blocks, checked independently: the safety
+//! guard's geometry, the configuration space's clearance, the planning
+//! cells' anchors, and the edge pass (every reachable boundary cell
+//! visited, moves between neighbours, never into an obstacle).
+
+use robovac::cspace::{self, build_fine, coarse_anchor, disc_blocked, update_coarse};
+use robovac::edge::{is_boundary, EdgePass, EdgeStep};
+use robovac::grid::{Cell, Grid, Layer};
+use robovac::guard::{free_distance_mm, limit_speed, GuardParams};
+use robovac::lidar_map::{CellState, EvidenceMap};
+use robovac::mission::segment_clear;
+use robovac::SearchState;
+
+type G = Grid<{ robovac::bits::words_for(120 * 100) }>;
+type S = SearchState<{ 120 * 100 }, { robovac::bits::words_for(120 * 100) }, 4096>;
+
+const GUARD: GuardParams = GuardParams {
+    radius_mm: 165,
+    brake_mm_s2: 500,
+    reserve_mm: 20,
+    creep_mm_s: 40,
+    moving_margin_mm: 60,
+};
+
+#[test]
+fn guard_free_distance_is_the_disc_geometry() {
+    // Two points straight ahead at 500 mm: the front of the body (165 mm)
+    // touches after 335 mm.
+    let pts = [(500, 0), (501, 0)];
+    assert_eq!(free_distance_mm(pts.iter().copied(), 165, true), 336);
+    // Off to the side by 100 mm: the chord is √(165² − 100²) ≈ 131 mm.
+    let pts = [(500, 100), (500, 100)];
+    assert_eq!(free_distance_mm(pts.iter().copied(), 165, true), 500 - 131);
+    // Beside the body (|y| ≥ r) or behind: nothing in the way.
+    let pts = [(300, 165), (300, -170), (-200, 0), (-300, 10)];
+    assert_eq!(free_distance_mm(pts.iter().copied(), 165, true), i32::MAX);
+    // Backing up sees the points behind (the second nearest counts:
+    // 300 − √(165² − 10²) = 136).
+    assert_eq!(free_distance_mm(pts.iter().copied(), 165, false), 136);
+    // One stray point (range noise) alone does not stop the robot.
+    let pts = [(200, 0), (900, 0), (901, 0)];
+    assert_eq!(free_distance_mm(pts.iter().copied(), 165, true), 900 - 165);
+}
+
+#[test]
+fn guard_speed_brakes_in_time() {
+    // v² = 2·a·(free − reserve): 480 mm of room at 500 mm/s² → 692 mm/s.
+    assert_eq!(limit_speed(&GUARD, 300, 500), 300);
+    assert_eq!(limit_speed(&GUARD, 300, 20 + 81), 284);
+    // Below the creep speed: stop.
+    assert_eq!(limit_speed(&GUARD, 300, 21), 0);
+    assert_eq!(limit_speed(&GUARD, -100, 0), 0);
+    assert_eq!(limit_speed(&GUARD, 0, 1000), 0);
+    // Never faster than asked, either way.
+    assert_eq!(limit_speed(&GUARD, -100, 10_000), -100);
+}
+
+/// A 6 m × 5 m evidence map (50 mm cells): walls around, a 1 m × 0.6 m
+/// table in the middle, all else seen free.
+fn room() -> Box<EvidenceMap<{ 120 * 100 }>> {
+    let mut m = Box::new(EvidenceMap::<{ 120 * 100 }>::new());
+    m.reset(120, 100, 50).unwrap();
+    for cy in 0..100 {
+        for cx in 0..120 {
+            let wall = cx < 2 || cy < 2 || cx >= 118 || cy >= 98;
+            let table = (50..70).contains(&cx) && (40..52).contains(&cy);
+            let st = if wall || table {
+                CellState::Occupied
+            } else {
+                CellState::Free
+            };
+            m.set_state(cx, cy, st);
+        }
+    }
+    m
+}
+
+#[test]
+fn fine_space_keeps_exactly_the_clearance() {
+    let map = room();
+    let mut fine = Box::new(G::new());
+    build_fine(&map, &mut fine, 175, false).unwrap();
+    // The wall's face is at x = 100 mm; cell centres at 25 + 50k mm: the
+    // first free column is the one whose centre is 175 mm from the face.
+    for cx in 0..10 {
+        let centre_x = cx as i64 * 50 + 25;
+        let clear = centre_x - 100;
+        assert_eq!(fine.is_free(cx, 50), clear >= 175, "column {cx}");
+    }
+    // Every free cell really has the clearance (checked by the disc test),
+    // and every blocked one really lacks it.
+    for cy in 0..100 {
+        for cx in 0..120 {
+            let (px, py) = (cx as i64 * 50 + 25, cy as i64 * 50 + 25);
+            assert_eq!(
+                fine.is_blocked(cx, cy),
+                disc_blocked(&map, px, py, 175, false),
+                "cell ({cx}, {cy})"
+            );
+        }
+    }
+}
+
+#[test]
+fn planning_cells_anchor_where_the_robot_fits() {
+    let map = room();
+    let mut coarse = Box::new(G::new());
+    cspace::size_coarse(&map, &mut coarse, 300).unwrap();
+    update_coarse(&map, &mut coarse, 300, 175, false).unwrap();
+    for gy in 0..coarse.height() as i32 {
+        for gx in 0..coarse.width() as i32 {
+            let a = coarse_anchor(&map, 300, 175, false, gx, gy);
+            assert_eq!(a.is_some(), coarse.is_free(gx, gy));
+            if let Some((x, y)) = a {
+                // Inside its cell, on free floor, with the clearance.
+                assert!(x >= gx as i64 * 300 && x < (gx as i64 + 1) * 300);
+                assert!(y >= gy as i64 * 300 && y < (gy as i64 + 1) * 300);
+                assert!(!disc_blocked(&map, x, y, 175, false));
+            }
+        }
+    }
+    // The cells along the walls are usable (anchored off-centre), so the
+    // lanes reach the strip a centre rule would leave.
+    assert!(coarse.is_free(0, 5), "the first column is anchored");
+    // A straight move that would graze the table is refused.
+    let hmm = 100 * 50;
+    let a = (2000, hmm - 2200);
+    let b = (4000, hmm - 2200);
+    assert!(!segment_clear(&map, a, b, 170));
+    let c = (2000, hmm - 1500);
+    let d = (4000, hmm - 1500);
+    assert!(segment_clear(&map, c, d, 170));
+}
+
+#[test]
+fn edge_pass_visits_every_reachable_boundary_cell() {
+    let map = room();
+    let mut fine = Box::new(G::new());
+    build_fine(&map, &mut fine, 175, false).unwrap();
+    let boundary: Vec<(i32, i32)> = (0..100)
+        .flat_map(|y| (0..120).map(move |x| (x, y)))
+        .filter(|&(x, y)| is_boundary(&fine, x, y))
+        .collect();
+    assert!(boundary.len() > 300);
+    let mut search = Box::new(S::new());
+    let mut path = vec![Cell::default(); 120 * 100];
+    let mut pass = EdgePass::new();
+    let start = Cell::new(30, 30);
+    assert!(pass.start(&mut fine, start));
+    let (mut last, mut moves, mut edge_moves) = (start, 0usize, 0usize);
+    for _ in 0..200_000 {
+        match pass.step(&mut fine, &mut search, &mut path, 500).unwrap() {
+            EdgeStep::Move { to, edge } => {
+                moves += 1;
+                let (dx, dy) = (to.x as i32 - last.x as i32, to.y as i32 - last.y as i32);
+                assert!(dx.abs() <= 1 && dy.abs() <= 1, "a move between neighbours");
+                assert!(fine.is_free(to.x as i32, to.y as i32), "never into an obstacle");
+                if dx != 0 && dy != 0 {
+                    let (x, y) = (last.x as i32, last.y as i32);
+                    assert!(fine.is_free(x + dx, y) && fine.is_free(x, y + dy), "no corner cut");
+                }
+                edge_moves += usize::from(edge);
+                last = to;
+            }
+            EdgeStep::Pending => {}
+            EdgeStep::Done => break,
+        }
+    }
+    assert!(pass.is_done());
+    for &(x, y) in &boundary {
+        assert!(fine.get(Layer::Covered, x, y), "boundary cell ({x}, {y}) visited");
+    }
+    // Mostly along contours: transits are the exception.
+    assert!(edge_moves * 10 > moves * 8, "{edge_moves} of {moves} moves along contours");
+    assert_eq!(pass.stats.unreachable, 0);
+}
