@@ -220,15 +220,11 @@ pub fn build_fine<const EV: usize, const GW: usize>(
 
 /// World mm of the centre of fine cell (cx, cy).
 pub fn fine_centre_mm<const EV: usize>(map: &EvidenceMap<EV>, cx: i32, cy: i32) -> (i32, i32) {
-    let res = map.res_mm() as i64;
-    let hmm = map.height() as i64 * res;
-    (
-        (cx as i64 * res + res / 2) as i32,
-        (hmm - (cy as i64 * res + res / 2)) as i32,
-    )
+    coarse_centre_mm(map, map.res_mm(), cx, cy)
 }
 
-/// World mm of the centre of coarse cell (gx, gy) of `cell_mm`.
+/// World mm of the centre of cell (gx, gy) of a grid of `cell_mm` cells
+/// over the evidence map (row 0 at the top).
 pub fn coarse_centre_mm<const EV: usize>(
     map: &EvidenceMap<EV>,
     cell_mm: u32,

@@ -294,16 +294,8 @@ impl EdgePass {
     /// The unvisited boundary neighbour closest to straight on (ties: the
     /// left turn, then orthogonal moves); diagonals never cut a corner.
     fn next_on_contour<const GW: usize>(&self, fine: &Grid<GW>) -> Option<Cell> {
-        const DIRS: [(i32, i32); 8] = [
-            (1, 0),
-            (1, -1),
-            (0, -1),
-            (-1, -1),
-            (-1, 0),
-            (-1, 1),
-            (0, 1),
-            (1, 1),
-        ];
+        // E, NE, N, NW, W, SW, S, SE: each 45° to the left of the one before.
+        const DIRS: [(i32, i32); 8] = crate::search::NEIGHBOURS;
         let (x, y) = self.last.xy();
         let cur = DIRS.iter().position(|&d| d == self.dir);
         let mut best: Option<(i32, Cell)> = None;

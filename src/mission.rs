@@ -427,6 +427,7 @@ pub struct Mission {
     reopens: u32,
     edge_reopens: u32,
     abandon_rounds: u8,
+    home_tries: u8,
     started_us: u64,
     counters: Counters,
 }
@@ -525,6 +526,7 @@ impl Mission {
             reopens: 0,
             edge_reopens: 0,
             abandon_rounds: 0,
+            home_tries: 0,
             started_us: 0,
             counters: Counters {
                 replans: 0,
@@ -565,17 +567,7 @@ impl Mission {
         };
         let pose = self.odom.pose();
         let here = (pose.x_mm, pose.y_mm);
-        let reach = (self.cfg.radius_mm + self.cfg.corridor_mm) as i64;
-        let total = dist_mm(here, seg.to);
-        let look = self.cfg.lookahead_mm as i64;
-        let ahead = if total > look && total > 0 {
-            (
-                here.0 + ((seg.to.0 - here.0) as i64 * look / total) as i32,
-                here.1 + ((seg.to.1 - here.1) as i64 * look / total) as i32,
-            )
-        } else {
-            seg.to
-        };
+        let (reach, _, ahead) = self.corridor(here, seg.to);
         let n = self
             .points_where(false)
             .filter(|&q| in_corridor(here, ahead, q, reach))
@@ -746,6 +738,24 @@ impl Mission {
         enc: (u16, u16),
     ) -> MotorCmd {
         Exec { m: self, p: parts }.tick(now_us, enc)
+    }
+
+    /// The corridor checked ahead of the robot toward `to`: its half-width
+    /// (mm), the distance to `to` (mm), and where it ends (at most
+    /// `lookahead_mm` on).
+    fn corridor(&self, here: (i32, i32), to: (i32, i32)) -> (i64, i64, (i32, i32)) {
+        let reach = (self.cfg.radius_mm + self.cfg.corridor_mm) as i64;
+        let total = dist_mm(here, to);
+        let look = self.cfg.lookahead_mm as i64;
+        let ahead = if total > look && total > 0 {
+            (
+                here.0 + ((to.0 - here.0) as i64 * look / total) as i32,
+                here.1 + ((to.1 - here.1) as i64 * look / total) as i32,
+            )
+        } else {
+            to
+        };
+        (reach, total, ahead)
     }
 
     /// How far the guard would let the robot drive from `here` straight
@@ -1128,7 +1138,19 @@ impl<
                         m.phase = Phase::Return;
                     }
                     if m.queue.is_empty() {
-                        m.phase = Phase::Done;
+                        // Home only when there: a way home given up on the
+                        // way (a timeout) is planned again, a few times.
+                        let home = (m.start.x_mm, m.start.y_mm);
+                        if dist_mm((pose.x_mm, pose.y_mm), home) <= 100 {
+                            m.phase = Phase::Done;
+                        } else if m.home_tries < 5 {
+                            m.home_tries += 1;
+                            m.queue.reset((pose.x_mm, pose.y_mm));
+                            m.fine_is_edge = false;
+                            self.begin_return(pose);
+                        } else {
+                            self.fail(Fault::NoWayHome);
+                        }
                     }
                 }
             }
@@ -1572,17 +1594,7 @@ impl<
             return;
         };
         let here = (pose.x_mm, pose.y_mm);
-        let reach = (m.cfg.radius_mm + m.cfg.corridor_mm) as i64;
-        let total = dist_mm(here, seg.to);
-        let look = m.cfg.lookahead_mm as i64;
-        let ahead = if total > look && total > 0 {
-            (
-                here.0 + ((seg.to.0 - here.0) as i64 * look / total) as i32,
-                here.1 + ((seg.to.1 - here.1) as i64 * look / total) as i32,
-            )
-        } else {
-            seg.to
-        };
+        let (reach, total, ahead) = m.corridor(here, seg.to);
         match m.activity {
             Activity::BackOff { .. } => {}
             Activity::Follow => {

@@ -154,10 +154,16 @@ fn edge_pass_visits_every_reachable_boundary_cell() {
                 moves += 1;
                 let (dx, dy) = (to.x as i32 - last.x as i32, to.y as i32 - last.y as i32);
                 assert!(dx.abs() <= 1 && dy.abs() <= 1, "a move between neighbours");
-                assert!(fine.is_free(to.x as i32, to.y as i32), "never into an obstacle");
+                assert!(
+                    fine.is_free(to.x as i32, to.y as i32),
+                    "never into an obstacle"
+                );
                 if dx != 0 && dy != 0 {
                     let (x, y) = (last.x as i32, last.y as i32);
-                    assert!(fine.is_free(x + dx, y) && fine.is_free(x, y + dy), "no corner cut");
+                    assert!(
+                        fine.is_free(x + dx, y) && fine.is_free(x, y + dy),
+                        "no corner cut"
+                    );
                 }
                 edge_moves += usize::from(edge);
                 last = to;
@@ -168,9 +174,15 @@ fn edge_pass_visits_every_reachable_boundary_cell() {
     }
     assert!(pass.is_done());
     for &(x, y) in &boundary {
-        assert!(fine.get(Layer::Covered, x, y), "boundary cell ({x}, {y}) visited");
+        assert!(
+            fine.get(Layer::Covered, x, y),
+            "boundary cell ({x}, {y}) visited"
+        );
     }
     // Mostly along contours: transits are the exception.
-    assert!(edge_moves * 10 > moves * 8, "{edge_moves} of {moves} moves along contours");
+    assert!(
+        edge_moves * 10 > moves * 8,
+        "{edge_moves} of {moves} moves along contours"
+    );
     assert_eq!(pass.stats.unreachable, 0);
 }

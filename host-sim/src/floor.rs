@@ -118,13 +118,15 @@ impl Floor {
 
     /// Share of the reachable floor swept.
     pub fn coverage(&self) -> f64 {
-        let hit = self
-            .floor
+        self.swept_cells() as f64 / self.floor_cells.max(1) as f64
+    }
+
+    fn swept_cells(&self) -> usize {
+        self.floor
             .iter()
             .zip(&self.swept)
             .filter(|(f, s)| **f && **s)
-            .count();
-        hit as f64 / self.floor_cells.max(1) as f64
+            .count()
     }
 
     /// Cell side, m, and the grid's width and height.
@@ -142,13 +144,7 @@ impl Floor {
 
     /// Reachable floor swept, m².
     pub fn swept_area_m2(&self) -> f64 {
-        let hit = self
-            .floor
-            .iter()
-            .zip(&self.swept)
-            .filter(|(f, s)| **f && **s)
-            .count();
-        hit as f64 * self.res_m * self.res_m
+        self.swept_cells() as f64 * self.res_m * self.res_m
     }
 
     /// Cells (x, y in the fine grid, from the bottom) of reachable floor

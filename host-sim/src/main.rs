@@ -895,17 +895,7 @@ fn cmd_drive(
     corrupt: f64,
 ) -> Result<(), String> {
     use host_sim::drive::{drive, drive_svg, parse_route, DriveOptions, Route};
-    // The world keeps an image's own resolution (PNG, PGM, ROS YAML);
-    // ASCII and MovingAI maps take --cell (default 0.1 m).
-    let map = load_map(
-        &args.map,
-        LoadOptions {
-            cell_m: None,
-            png_resolution_m: args.resolution,
-        },
-    )
-    .map_err(|e| e.to_string())?;
-    let cell_m = map.cell_m.or(args.cell).unwrap_or(0.1);
+    let (map, cell_m) = load_world_map(args)?;
     let route = if route == "square" {
         Route::Square {
             side_m: 1.0,

@@ -80,11 +80,19 @@ impl World {
         self.map.is_blocked(cx as i32, row as i32)
     }
 
-    /// True when a disc of radius `r` at (x, y) overlaps a wall.
-    pub fn disc_hits_wall(&self, x: f64, y: f64, r: f64) -> bool {
+    /// Visits the squared distance from (x, y) to every blocked cell (or
+    /// off-map cell) within `reach`, until `f` returns true; returns
+    /// whether it did.
+    fn any_wall_within(&self, x: f64, y: f64, reach: f64, mut f: impl FnMut(f64) -> bool) -> bool {
         let c = self.cell_m;
-        let (x0, x1) = (((x - r) / c).floor() as i32, ((x + r) / c).floor() as i32);
-        let (y0, y1) = (((y - r) / c).floor() as i32, ((y + r) / c).floor() as i32);
+        let (x0, x1) = (
+            ((x - reach) / c).floor() as i32,
+            ((x + reach) / c).floor() as i32,
+        );
+        let (y0, y1) = (
+            ((y - reach) / c).floor() as i32,
+            ((y + reach) / c).floor() as i32,
+        );
         for gy in y0..=y1 {
             for gx in x0..=x1 {
                 let row = self.map.height as i32 - 1 - gy;
@@ -94,7 +102,7 @@ impl World {
                 // nearest point of the cell square to the centre
                 let nx = x.clamp(gx as f64 * c, (gx + 1) as f64 * c);
                 let ny = y.clamp(gy as f64 * c, (gy + 1) as f64 * c);
-                if (nx - x).powi(2) + (ny - y).powi(2) < r * r {
+                if f((nx - x).powi(2) + (ny - y).powi(2)) {
                     return true;
                 }
             }
@@ -102,30 +110,19 @@ impl World {
         false
     }
 
+    /// True when a disc of radius `r` at (x, y) overlaps a wall.
+    pub fn disc_hits_wall(&self, x: f64, y: f64, r: f64) -> bool {
+        self.any_wall_within(x, y, r, |d2| d2 < r * r)
+    }
+
     /// Distance from (x, y) to the nearest wall (blocked cell or the map's
     /// edge), searched up to `max` (returns `max` when nothing is nearer).
     pub fn wall_distance(&self, x: f64, y: f64, max: f64) -> f64 {
-        let c = self.cell_m;
-        let (x0, x1) = (
-            ((x - max) / c).floor() as i32,
-            ((x + max) / c).floor() as i32,
-        );
-        let (y0, y1) = (
-            ((y - max) / c).floor() as i32,
-            ((y + max) / c).floor() as i32,
-        );
         let mut best = max * max;
-        for gy in y0..=y1 {
-            for gx in x0..=x1 {
-                let row = self.map.height as i32 - 1 - gy;
-                if !self.map.is_blocked(gx, row) {
-                    continue;
-                }
-                let nx = x.clamp(gx as f64 * c, (gx + 1) as f64 * c);
-                let ny = y.clamp(gy as f64 * c, (gy + 1) as f64 * c);
-                best = best.min((nx - x).powi(2) + (ny - y).powi(2));
-            }
-        }
+        self.any_wall_within(x, y, max, |d2| {
+            best = best.min(d2);
+            false
+        });
         best.sqrt()
     }
 

@@ -148,9 +148,16 @@ fn demo_runs_a_whole_mission_and_writes_its_picture() {
     let dir = std::env::temp_dir().join(format!("robovac-cli-demo-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let out = bin().arg("demo").current_dir(&dir).output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let s = String::from_utf8_lossy(&out.stdout);
-    assert!(s.contains("finished true") && s.contains("back at start true"), "{s}");
+    assert!(
+        s.contains("finished true") && s.contains("back at start true"),
+        "{s}"
+    );
     assert!(s.contains("collisions 0"), "{s}");
     let svg = std::fs::read_to_string(dir.join("demo.svg")).unwrap();
     assert!(svg.starts_with("<svg") && svg.contains("coverage") && svg.contains("polyline"));
@@ -171,7 +178,11 @@ fn mission_reports_json_and_rejects_bad_input() {
         .arg(&svg)
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&j).unwrap()).unwrap();
     for k in [
         "finished",
@@ -193,9 +204,27 @@ fn mission_reports_json_and_rejects_bad_input() {
     for args in [
         vec!["mission", "--map", "no/such/map.txt"],
         vec!["mission", "--map", map.to_str().unwrap(), "--start", "a,b"],
-        vec!["mission", "--map", map.to_str().unwrap(), "--start", "0.05,0.05"],
-        vec!["mission", "--map", map.to_str().unwrap(), "--max-time", "-3"],
-        vec!["mission", "--map", map.to_str().unwrap(), "--planner", "zigzag"],
+        vec![
+            "mission",
+            "--map",
+            map.to_str().unwrap(),
+            "--start",
+            "0.05,0.05",
+        ],
+        vec![
+            "mission",
+            "--map",
+            map.to_str().unwrap(),
+            "--max-time",
+            "-3",
+        ],
+        vec![
+            "mission",
+            "--map",
+            map.to_str().unwrap(),
+            "--planner",
+            "zigzag",
+        ],
         vec!["bench", "missions", "--runs", "0"],
     ] {
         let out = bin().args(&args).output().unwrap();
