@@ -75,7 +75,7 @@ proptest! {
     }
 
     /// One corrupted frame (a bit flip, a dropped byte, or a truncation)
-    /// costs that frame only: every other frame is decoded, and every
+    /// costs that frame, and at most its successor: every other frame is decoded, and every
     /// emitted frame has a valid checksum and plausible contents. (A bit
     /// flip is always caught: CRC-8 detects every single-bit error.)
     #[test]
@@ -105,10 +105,15 @@ proptest! {
                 prop_assert!(sent.contains(&&b), "a bit flip got through");
             }
         }
-        let intact: Vec<&[u8; FRAME_LEN]> = frames.iter().enumerate().filter(|(i, _)| *i != k).map(|(_, f)| f).collect();
-        for f in intact {
+        // A dropped byte or a truncation may also cost the next frame, when
+        // the bytes that close the damaged frame happen to pass its CRC-8 or
+        // swallow the next header (1 in 256 per candidate alignment: inherent
+        // to an 8-bit checksum); never any other.
+        let intact: Vec<(usize, &[u8; FRAME_LEN])> = frames.iter().enumerate().filter(|(i, _)| *i != k).collect();
+        for (i, f) in intact {
             let n = out.iter().filter(|o| encode(o.speed_dps, o.start_cdeg, o.end_cdeg, o.timestamp_ms, &core::array::from_fn(|i| (o.points[i].dist_mm, o.points[i].intensity))) == *f).count();
-            prop_assert!(n >= 1, "an intact frame was lost");
+            let may_lose = kind != 0 && i == k + 1;
+            prop_assert!(n >= 1 || may_lose, "an intact frame was lost");
         }
     }
 
