@@ -57,6 +57,11 @@ pub struct EdgeStats {
     pub unreachable: u32,
     /// Fill sweeps.
     pub sweeps: u32,
+    /// Free cells on the grid, and those reachable from the start (set
+    /// when the fill ends).
+    pub free: u32,
+    /// Reachable free cells.
+    pub reached: u32,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -114,6 +119,8 @@ impl EdgePass {
                 transits: 0,
                 unreachable: 0,
                 sweeps: 0,
+                free: 0,
+                reached: 0,
             },
         }
     }
@@ -212,13 +219,21 @@ impl EdgePass {
                     // Unreachable free cells are of no use: block them so the
                     // boundary is the reachable one.
                     let (w, h) = (fine.width() as i32, fine.height() as i32);
+                    let (mut free, mut reached) = (0u32, 0u32);
                     for y in 0..h {
                         for x in 0..w {
-                            if fine.is_free(x, y) && !fine.get(Layer::Known, x, y) {
-                                let _ = fine.set_obstacle(x, y, true);
+                            if fine.is_free(x, y) {
+                                free += 1;
+                                if fine.get(Layer::Known, x, y) {
+                                    reached += 1;
+                                } else {
+                                    let _ = fine.set_obstacle(x, y, true);
+                                }
                             }
                         }
                     }
+                    self.stats.free = free;
+                    self.stats.reached = reached;
                     let (x, y) = self.last.xy();
                     if todo(fine, x, y) {
                         let _ = fine.set(Layer::Covered, x, y, true);

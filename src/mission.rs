@@ -83,6 +83,10 @@ pub const SCAN_FRAMES: usize = 48;
 pub const QUEUE: usize = 48;
 /// Grid obstacles near the robot offered to DWA besides the lidar points.
 const MAP_POINTS: usize = 64;
+/// Plans of the way home tried (one per planning step, 10 Hz) before the
+/// mission fails with [`Fault::NoWayHome`]: 30 s for whoever blocks the
+/// way to move on.
+pub const HOME_TRIES: u16 = 300;
 /// Sub-paths given up and put back for a later pass, at most, per mission
 /// (a spot a person keeps blocking is not retried for ever).
 pub const MAX_RETRIES: u32 = 400;
@@ -427,7 +431,8 @@ pub struct Mission {
     reopens: u32,
     edge_reopens: u32,
     abandon_rounds: u8,
-    home_tries: u8,
+    home_tries: u16,
+    edge_tries: u16,
     started_us: u64,
     counters: Counters,
 }
@@ -527,6 +532,7 @@ impl Mission {
             edge_reopens: 0,
             abandon_rounds: 0,
             home_tries: 0,
+            edge_tries: 0,
             started_us: 0,
             counters: Counters {
                 replans: 0,
@@ -1143,7 +1149,7 @@ impl<
                         let home = (m.start.x_mm, m.start.y_mm);
                         if dist_mm((pose.x_mm, pose.y_mm), home) <= 100 {
                             m.phase = Phase::Done;
-                        } else if m.home_tries < 5 {
+                        } else if m.home_tries < HOME_TRIES {
                             m.home_tries += 1;
                             m.queue.reset((pose.x_mm, pose.y_mm));
                             m.fine_is_edge = false;
@@ -1332,7 +1338,10 @@ impl<
                 Err(SearchError::NoPath) => {
                     self.m.feed = None;
                     if self.m.phase == Phase::ReturnSearch {
-                        self.fail(Fault::NoWayHome);
+                        // No way home on this map: plan again from a fresh
+                        // map (the Return phase counts the tries).
+                        self.m.phase = Phase::Return;
+                        self.m.fine_is_edge = false;
                     } else {
                         self.m.counters.skipped += 1;
                     }
@@ -1378,10 +1387,16 @@ impl<
             return;
         }
         m.fine_is_edge = true;
-        let Some(from) = nearest_free_fine(self.p.map, self.p.fine, (pose.x_mm, pose.y_mm)) else {
-            // Nowhere to go on the fine map: skip the edge pass.
-            m.phase = Phase::ReturnSearch;
-            self.begin_return(pose);
+        let from = nearest_free_fine_within(self.p.map, self.p.fine, (pose.x_mm, pose.y_mm), 10);
+        let Some(from) = from else {
+            // Boxed in on the map (someone beside the robot is mapped):
+            // try again next step, for up to 30 s, then skip the edge pass.
+            m.edge_tries += 1;
+            m.fine_is_edge = false;
+            if m.edge_tries > HOME_TRIES {
+                m.phase = Phase::ReturnSearch;
+                self.begin_return(pose);
+            }
             return;
         };
         m.queue.reset((pose.x_mm, pose.y_mm));
@@ -1400,6 +1415,21 @@ impl<
         while self.m.queue.len() < 8 {
             let search = &mut *self.p.search;
             match self.m.edge.step(self.p.fine, search, self.p.path, budget) {
+                Ok(EdgeStep::Move { .. } | EdgeStep::Done)
+                    if self.m.edge.stats.reached * 2 < self.m.edge.stats.free
+                        && self.m.edge_tries < HOME_TRIES =>
+                {
+                    // Boxed in on the map (someone who stood beside the
+                    // robot is still mapped around it): wait and build the
+                    // edge pass again from a fresher map.
+                    let m = &mut *self.m;
+                    m.edge_tries += 1;
+                    m.edge = EdgePass::new();
+                    m.queue.reset(m.queue.last_end().unwrap_or((0, 0)));
+                    m.fine_is_edge = false;
+                    m.phase = Phase::Cover;
+                    return;
+                }
                 Ok(EdgeStep::Move { to, edge }) => {
                     let p = cspace::fine_centre_mm(self.p.map, to.x as i32, to.y as i32);
                     let _ = self.m.queue.push(p, edge);
@@ -1433,11 +1463,15 @@ impl<
         }
         let from = m.queue.last_end().unwrap_or((pose.x_mm, pose.y_mm));
         let home = (m.start.x_mm, m.start.y_mm);
-        let a = nearest_free_fine(self.p.map, self.p.fine, from);
-        // The dock may have been mapped a little off (drift): look wider.
+        // Look wider than for a detour: the dock may have been mapped a
+        // little off (drift), or someone stands beside the robot.
+        let a = nearest_free_fine_within(self.p.map, self.p.fine, from, 10);
         let b = nearest_free_fine_within(self.p.map, self.p.fine, home, 10);
         let (Some(a), Some(b)) = (a, b) else {
-            self.fail(Fault::NoWayHome);
+            // Try again on the next step (the map changes as people move);
+            // the Return phase gives up after `HOME_TRIES`.
+            m.phase = Phase::Return;
+            m.fine_is_edge = false;
             return;
         };
         if a == b {
@@ -1447,7 +1481,8 @@ impl<
         }
         let search = &mut *self.p.search;
         if search.begin(self.p.fine, a, &[b], Algo::AStar).is_err() {
-            self.fail(Fault::NoWayHome);
+            m.phase = Phase::Return;
+            m.fine_is_edge = false;
             return;
         }
         m.feed = Some(Feed {
