@@ -37,19 +37,19 @@ mod emu {
         BenchCoverage, BenchGrid, BENCH_CELLS, BENCH_WORDS, COVERAGE128_BYTES, GRID128_BYTES,
         SEARCH128_BYTES,
     };
-    use robovac::check::Checker;
-    use robovac::cost::{COST_DIAGONAL, COST_PER_CELL};
     use robovac::coverage::{PlannerKind, Step};
+    use robovac::grid::los::line_of_sight;
+    use robovac::grid::maps::{table1_instance, SplitMix64, FLAT_40X20, TABLE1_CORNER, TABLE1_MAP};
     use robovac::grid::Grid;
-    use robovac::lidar::ld06::{encode, Ld06};
-    use robovac::lidar::scan::{Scan, ScanAssembler};
-    use robovac::lidar::LidarProtocol;
-    use robovac::lidar_map::{CellState, EvidenceMap, LidarMount};
-    use robovac::los::line_of_sight;
-    use robovac::maps::{table1_instance, SplitMix64, FLAT_40X20, TABLE1_CORNER, TABLE1_MAP};
-    use robovac::metrics::MetricsRecorder;
-    use robovac::odometry::{DriveGeometry, Odometry, Pose};
-    use robovac::prune::prune;
+    use robovac::math::cost::{COST_DIAGONAL, COST_PER_CELL};
+    use robovac::robot::lidar::ld06::{encode, Ld06};
+    use robovac::robot::lidar::scan::{Scan, ScanAssembler};
+    use robovac::robot::lidar::LidarProtocol;
+    use robovac::robot::lidar_map::{CellState, EvidenceMap, LidarMount};
+    use robovac::robot::odometry::{DriveGeometry, Odometry, Pose};
+    use robovac::search::prune::prune;
+    use robovac::verify::check::Checker;
+    use robovac::verify::metrics::MetricsRecorder;
     use robovac::{Algo, Cell};
     use stm32f4xx_hal as _;
 
@@ -311,7 +311,7 @@ mod emu {
                 let start = (k * 1000) as u16;
                 let pts: [(u16, u8); 12] = core::array::from_fn(|i| {
                     let cdeg = k as i64 * 1000 + i as i64 * 917 / 11;
-                    let (s, c) = robovac::angle::sin_cos_q30(cdeg * 174_533 / 1000);
+                    let (s, c) = robovac::math::angle::sin_cos_q30(cdeg * 174_533 / 1000);
                     let m = s.abs().max(c.abs()).max(1);
                     (((1500i64 << 30) / m) as u16, 200)
                 });
@@ -415,7 +415,7 @@ mod emu {
     /// One DWA cycle on the recorded situation: the same command as on the
     /// host, and its cost.
     fn dwa_cycle(meter: &Meter) {
-        use robovac::dwa::{
+        use robovac::nav::dwa::{
             plan, DwaResult, DEFAULT_PARAMS, RECORDED_COMMAND, RECORDED_GOAL, RECORDED_OBSTACLES,
             RECORDED_VELOCITY, V_SAMPLES, W_SAMPLES,
         };
@@ -697,12 +697,12 @@ mod emu {
             "flat 40x20",
         );
         let mut rng = SplitMix64::new(1);
-        let spec = robovac::maps::RandomMap {
+        let spec = robovac::grid::maps::RandomMap {
             width: 30,
             height: 50,
-            ..robovac::maps::TABLE2_MAP
+            ..robovac::grid::maps::TABLE2_MAP
         };
-        if robovac::maps::random_obstacles(GRID, spec, &mut rng).is_err() {
+        if robovac::grid::maps::random_obstacles(GRID, spec, &mut rng).is_err() {
             fail("table 2 map");
         }
         let Some(t2_start) = first_free(GRID) else {

@@ -8,8 +8,8 @@
 //! needs 184 KiB and an STM32F4 with more RAM; its size is asserted below so
 //! that any growth of the state is caught at compile time.
 
-use crate::bits::words_for;
 use crate::grid::Grid;
+use crate::math::bits::words_for;
 use crate::search::SearchState;
 
 /// Largest firmware map side, in cells.
@@ -84,7 +84,7 @@ pub type Coverage128 =
 
 /// Planner state at 128 × 128: the search state, the list (4 bytes a
 /// point), the path buffer (4 bytes a cell), two bitsets (in-list,
-/// abandoned) and a few fields.
+/// abandoned) and a few fields (the list's own counters among them).
 pub const COVERAGE128_BYTES: usize = core::mem::size_of::<Coverage128>();
 const _: () = assert!(
     COVERAGE128_BYTES
@@ -93,7 +93,7 @@ const _: () = assert!(
             + REF128_PCAP * 4
             + 2 * REF128_WORDS * 4
             + 64 * 4
-            + 128
+            + 160
 );
 const _: () = assert!(COVERAGE128_BYTES <= 210_000);
 /// Grid plus planner at 128 × 128.

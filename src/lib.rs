@@ -1,21 +1,52 @@
 //! # robovac core
 //!
-//! The `#![no_std]`, allocation-free heart of the robot vacuum firmware: a
-//! bit-packed occupancy grid, fixed-capacity path search (A*, OHA*, Theta*,
-//! multi-goal), and path pruning. Everything here is hardware-free and sized
-//! at compile time with const generics, so the same code runs on the STM32F4
-//! and in `host-sim`.
+//! The `#![no_std]`, allocation-free heart of the robot vacuum firmware.
+//! Everything here is hardware-free and sized at compile time with const
+//! generics, so the same code runs on the STM32F4 and in `host-sim`; time
+//! is passed in, never read.
+//!
+//! ## The layers
+//!
+//! Each folder is a layer; a layer uses only the layers below it.
+//!
+//! ```text
+//! mission   the executive: self-test, cover, edge, return, avoid, faults;
+//!           `control` (100 Hz) and `plan` (10 Hz) entry points, events
+//!    │
+//! nav       configuration space, path follower, guard, DWA, edge pass,
+//!    │      geometry                                  (seed 002 §3.1)
+//!    ├──────────────┐
+//! coverage  │       robot     hal traits, odometry, wheel control,
+//!  B-OHA*,  │                 LD06 lidar, evidence map
+//!  BA*, …   │         │
+//!    │      │         │
+//! verify  metrics and the independent checker
+//!    │
+//! search    A*, OHA*, Theta*: one resumable loop     (seed 000 §2.3)
+//!    │
+//! grid      occupancy grid, line of sight, built-in maps
+//!    │
+//! math      angles, costs, bitsets, selection
+//! ```
+//!
+//! - [`math`]: integer angles (CORDIC), costs and square roots, bitsets.
+//! - [`grid`]: the bit-packed occupancy grid with covered/known layers,
+//!   line of sight, built-in maps.
+//! - [`search`]: A*, OHA* and Theta* behind one resumable, multi-goal,
+//!   bounded best-first loop, and path pruning.
+//! - [`verify`]: the metrics, defined once, and the independent checker.
+//! - [`coverage`]: the online complete-coverage planners (B-OHA*, BA*,
+//!   B-Theta*, our B-OHA*-PC) on one step loop and one bounded list.
+//! - [`robot`]: hardware traits ([`robot::hal`]), odometry, wheel control,
+//!   the LD06 parser and scan assembly, the evidence map.
+//! - [`nav`]: configuration space, path follower, guard, DWA, edge pass.
+//! - [`mission`]: the executive that runs a cleaning mission from sensor
+//!   bytes to motor duties.
+//! - [`capacity`]: the firmware's sizes, asserted at compile time.
 //!
 //! The algorithms follow the project's digest `ALGORITHMS.md` (seed 000 for
 //! OHA*, pruning and B-OHA*, seed 004 for A*, seed 002 for DWA and path
-//! following). Each algorithm lives in a file named for it; the machinery
-//! they share (grid, open list, line of sight, costs, the search loop,
-//! configuration space) is written once.
-//!
-//! The robot side: hardware traits ([`hal`]), odometry, wheel control, the
-//! LD06 lidar parser and scan assembly, the evidence map, and the mission
-//! executive ([`mission`]) that runs a cleaning mission from sensor bytes
-//! to motor duties, with time passed in.
+//! following); each lives in a file named for it.
 //!
 //! No function in this crate panics on any input: off-map coordinates read as
 //! blocked, capacities are checked and reported as typed errors.
@@ -24,38 +55,15 @@
 #![deny(clippy::indexing_slicing)]
 #![warn(missing_docs)]
 
-pub mod angle;
-pub mod astar;
-pub mod b_oha;
-pub mod b_oha_pc;
-pub mod b_theta;
-pub mod ba_star;
-pub mod bits;
 pub mod capacity;
-pub mod check;
-pub mod cost;
 pub mod coverage;
-pub mod cspace;
-pub mod dwa;
-pub mod edge;
-pub mod follow;
 pub mod grid;
-pub mod guard;
-pub mod hal;
-pub mod lidar;
-pub mod lidar_map;
-pub mod los;
-pub mod maps;
-pub mod metrics;
+pub mod math;
 pub mod mission;
-pub mod odometry;
-pub mod oha;
-pub mod open_list;
-pub mod prune;
+pub mod nav;
+pub mod robot;
 pub mod search;
-pub mod select;
-pub mod theta_star;
-pub mod wheel_control;
+pub mod verify;
 
 pub use grid::{Cell, Grid, GridError};
 pub use search::{Algo, SearchError, SearchState, SearchStats};

@@ -16,9 +16,9 @@ mod firmware {
     use defmt_rtt as _;
     use panic_probe as _;
     use robovac::capacity::{FwGrid, FwSearch, FW_CELLS, FW_SIDE};
-    use robovac::cost::COST_PER_CELL;
-    use robovac::maps::FLAT_40X20;
-    use robovac::prune::prune;
+    use robovac::grid::maps::FLAT_40X20;
+    use robovac::math::cost::COST_PER_CELL;
+    use robovac::search::prune::prune;
     use robovac::{Algo, Cell};
     use stm32f4xx_hal::{pac, prelude::*, rcc::Config};
 

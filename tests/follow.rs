@@ -1,7 +1,7 @@
 //! The path follower: sub-path merging, rotate-then-drive, convergence.
 
-use robovac::follow::{follow, track_errors, FollowCmd, SubPath, SubPaths, DEFAULT_FOLLOW};
-use robovac::odometry::Pose;
+use robovac::nav::follow::{follow, track_errors, FollowCmd, SubPath, SubPaths, DEFAULT_FOLLOW};
+use robovac::robot::odometry::Pose;
 
 #[test]
 fn waypoints_merge_into_straight_sub_paths() {

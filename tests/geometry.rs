@@ -5,10 +5,12 @@ mod common;
 
 use common::*;
 use proptest::prelude::*;
-use robovac::cost::{euclid, isqrt_round_u64, isqrt_u64, octile, COST_DIAGONAL, COST_PER_CELL};
+use robovac::grid::los::{line_of_sight, supercover};
 use robovac::grid::{GridError, Layer};
-use robovac::los::{line_of_sight, supercover};
-use robovac::oha::weighted;
+use robovac::math::cost::{
+    euclid, isqrt_round_u64, isqrt_u64, octile, COST_DIAGONAL, COST_PER_CELL,
+};
+use robovac::search::heuristics::weighted;
 use robovac::{Cell, Grid};
 
 #[test]
@@ -34,10 +36,10 @@ proptest! {
     #[test]
     fn atan2_matches_f64(y in -1_000_000i64..1_000_000, x in -1_000_000i64..1_000_000) {
         prop_assume!((x, y) != (0, 0));
-        let ours = robovac::angle::atan2_urad(y, x) as f64;
+        let ours = robovac::math::angle::atan2_urad(y, x) as f64;
         let exact = (y as f64).atan2(x as f64) * 1e6;
         prop_assert!((ours - exact).abs() <= 1.0, "atan2({y},{x}) = {ours} vs {exact}");
-        prop_assert!((robovac::angle::atan2_mrad(y as i32, x as i32) as f64 - exact / 1000.0).abs() <= 0.51);
+        prop_assert!((robovac::math::angle::atan2_mrad(y as i32, x as i32) as f64 - exact / 1000.0).abs() <= 0.51);
     }
 
     #[test]
@@ -95,9 +97,9 @@ proptest! {
 
 #[test]
 fn atan2_reversal_is_plus_pi() {
-    assert_eq!(robovac::angle::atan2_urad(0, -5), 3_141_593);
-    assert_eq!(robovac::angle::atan2_urad(0, -1_000_000), 3_141_593);
-    assert_eq!(robovac::angle::atan2_urad(0, 0), 0);
+    assert_eq!(robovac::math::angle::atan2_urad(0, -5), 3_141_593);
+    assert_eq!(robovac::math::angle::atan2_urad(0, -1_000_000), 3_141_593);
+    assert_eq!(robovac::math::angle::atan2_urad(0, 0), 0);
 }
 
 #[test]
@@ -150,7 +152,7 @@ proptest! {
     #[test]
     fn smallest_k_is_a_stable_partial_sort(v in prop::collection::vec(-50i64..50, 0..40), k in 0usize..12) {
         let mut out = vec![0i64; k];
-        let n = robovac::select::smallest_k(&v, &mut out, |x| *x);
+        let n = robovac::math::select::smallest_k(&v, &mut out, |x| *x);
         let mut sorted = v.clone();
         sorted.sort();
         sorted.truncate(k);

@@ -1,8 +1,8 @@
 //! The LD06 parser: the datasheet frame, CRC, and corrupt streams.
 
 use proptest::prelude::*;
-use robovac::lidar::ld06::{crc8, encode, Ld06, FRAME_LEN};
-use robovac::lidar::{LidarFrame, LidarProtocol};
+use robovac::robot::lidar::ld06::{crc8, encode, Ld06, FRAME_LEN};
+use robovac::robot::lidar::{LidarFrame, LidarProtocol};
 
 const DATASHEET: [u8; 47] = [
     0x54, 0x2C, 0x68, 0x08, 0xAB, 0x7E, 0xE0, 0x00, 0xE4, 0xDC, 0x00, 0xE2, 0xD9, 0x00, 0xE5, 0xD5,
@@ -163,7 +163,7 @@ fn implausible_frames_are_rejected_and_counted() {
 /// CRC-8), in random LD06-like streams. Expected well under 1 %.
 #[test]
 fn spurious_frame_rate_is_small() {
-    let mut rng = robovac::maps::SplitMix64::new(7);
+    let mut rng = robovac::grid::maps::SplitMix64::new(7);
     let (mut corrupted, mut spurious, mut recovered, mut intact) = (0u32, 0u32, 0u32, 0u32);
     for _ in 0..2000 {
         let frames: Vec<[u8; FRAME_LEN]> = (0..10)

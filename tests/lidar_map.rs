@@ -1,10 +1,10 @@
 //! The evidence map and the derived planner grid.
 
 use robovac::grid::Grid;
-use robovac::lidar::scan::{Scan, ScanAssembler};
-use robovac::lidar::{LidarFrame, LidarPoint};
-use robovac::lidar_map::{CellState, EvidenceMap, LidarMount};
-use robovac::odometry::Pose;
+use robovac::robot::lidar::scan::{Scan, ScanAssembler};
+use robovac::robot::lidar::{LidarFrame, LidarPoint};
+use robovac::robot::lidar_map::{CellState, EvidenceMap, LidarMount};
+use robovac::robot::odometry::Pose;
 
 const MOUNT: LidarMount = LidarMount {
     offset_x_mm: 0,
@@ -89,7 +89,7 @@ fn scans_assemble_and_map_a_room() {
     assert_eq!(c(2100, 80), CellState::Occupied);
     // The planner grid: 0.3 m cells, robot radius 165 mm. Centre cells free,
     // cells within a radius of the walls blocked.
-    let mut g: Box<Grid<{ robovac::bits::words_for(4096) }>> = Box::new(Grid::new());
+    let mut g: Box<Grid<{ robovac::math::bits::words_for(4096) }>> = Box::new(Grid::new());
     m.derive_grid(&mut *g, 300, 165, true).unwrap();
     assert_eq!((g.width(), g.height()), (14, 14));
     assert!(g.is_free(7, 7) && g.is_free(2, 7));

@@ -3,16 +3,16 @@
 //! cells' anchors, and the edge pass (every reachable boundary cell
 //! visited, moves between neighbours, never into an obstacle).
 
-use robovac::cspace::{self, build_fine, coarse_anchor, disc_blocked, update_coarse};
-use robovac::edge::{is_boundary, EdgePass, EdgeStep};
 use robovac::grid::{Cell, Grid, Layer};
-use robovac::guard::{free_distance_mm, limit_speed, GuardParams};
-use robovac::lidar_map::{CellState, EvidenceMap};
-use robovac::mission::segment_clear;
+use robovac::nav::cspace::{self, build_fine, coarse_anchor, disc_blocked, update_coarse};
+use robovac::nav::edge::{is_boundary, EdgePass, EdgeStep};
+use robovac::nav::geometry::segment_clear;
+use robovac::nav::guard::{free_distance_mm, limit_speed, GuardParams};
+use robovac::robot::lidar_map::{CellState, EvidenceMap};
 use robovac::SearchState;
 
-type G = Grid<{ robovac::bits::words_for(120 * 100) }>;
-type S = SearchState<{ 120 * 100 }, { robovac::bits::words_for(120 * 100) }, 4096>;
+type G = Grid<{ robovac::math::bits::words_for(120 * 100) }>;
+type S = SearchState<{ 120 * 100 }, { robovac::math::bits::words_for(120 * 100) }, 4096>;
 
 const GUARD: GuardParams = GuardParams {
     radius_mm: 165,

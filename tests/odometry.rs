@@ -1,9 +1,9 @@
 //! Odometry, angles, wheel control and the evidence map.
 
 use proptest::prelude::*;
-use robovac::angle::sin_cos_q30;
-use robovac::odometry::{DriveGeometry, Odometry};
-use robovac::wheel_control::{wheel_setpoints, WheelControl, WheelFault, WheelGains};
+use robovac::math::angle::sin_cos_q30;
+use robovac::robot::odometry::{DriveGeometry, Odometry};
+use robovac::robot::wheel_control::{wheel_setpoints, WheelControl, WheelFault, WheelGains};
 
 const GEOM: DriveGeometry = DriveGeometry {
     ticks_per_rev: 1000,
@@ -58,7 +58,7 @@ fn an_hour_without_rounding_drift() {
     o.update(l, r);
     let circ = 72.0e-3 * std::f64::consts::PI;
     let (mut x, mut y, mut tl, mut tr) = (0.0f64, 0.0f64, 0i64, 0i64);
-    let mut rng = robovac::maps::SplitMix64::new(42);
+    let mut rng = robovac::grid::maps::SplitMix64::new(42);
     let (mut vl, mut vr) = (0i32, 0i32);
     for k in 0..360_000u32 {
         if k % 300 == 0 {

@@ -5,7 +5,7 @@ mod common;
 
 use common::*;
 use proptest::prelude::*;
-use robovac::prune::prune;
+use robovac::search::prune::prune;
 use robovac::search::{Progress, SearchError};
 use robovac::{Algo, Cell, Grid};
 
@@ -99,7 +99,7 @@ proptest! {
         let g = random_grid(w, h, density, seed);
         let cells = free_cells(&g);
         prop_assume!(cells.len() > k + 1);
-        let mut rng = robovac::maps::SplitMix64::new(pick);
+        let mut rng = robovac::grid::maps::SplitMix64::new(pick);
         let s = cells[rng.below(cells.len() as u32) as usize];
         let goals: Vec<Cell> = (0..k).map(|_| cells[rng.below(cells.len() as u32) as usize]).collect();
         let dist = dijkstra(&g, s);

@@ -4,8 +4,8 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use robovac::lidar::ld06::{crc8, encode, Ld06};
-use robovac::lidar::LidarProtocol;
+use robovac::robot::lidar::ld06::{crc8, encode, Ld06};
+use robovac::robot::lidar::LidarProtocol;
 
 fuzz_target!(|data: &[u8]| {
     let mut p = Ld06::new();

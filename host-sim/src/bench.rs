@@ -2,8 +2,8 @@
 
 use std::time::Instant;
 
-use robovac::maps::{table1_instance, RandomMap, SplitMix64};
-use robovac::prune::prune;
+use robovac::grid::maps::{table1_instance, RandomMap, SplitMix64};
+use robovac::search::prune::prune;
 use robovac::{Algo, Cell};
 
 use crate::metrics::{mean, polyline_length};
@@ -37,7 +37,7 @@ pub const PAPER_TABLE1: [(&str, Algo, (f64, f64, f64)); 3] = [
 ];
 
 /// Runs seed 000's Table 1 protocol: `runs` random 100 × 50 maps (see
-/// [`robovac::maps::TABLE1_MAP`]) with a reachable corner-to-corner pair
+/// [`robovac::grid::maps::TABLE1_MAP`]) with a reachable corner-to-corner pair
 /// each; every algorithm gets the same maps and pairs.
 pub fn table1(
     runs: usize,
@@ -159,7 +159,7 @@ impl Table2Agg {
 
     fn add(&mut self, p: &crate::plan::Plan) {
         let m = &p.metrics;
-        let cells = |c: u64| c as f64 / robovac::cost::COST_PER_CELL as f64;
+        let cells = |c: u64| c as f64 / robovac::math::cost::COST_PER_CELL as f64;
         let vals: [(&'static str, f64); 13] = [
             ("coverage", p.coverage()),
             ("repetition", p.repetition()),
@@ -208,16 +208,16 @@ pub const TABLE2_SIZES: [(&str, u32, u32); 2] = [("50x30", 30, 50), ("30x50", 50
 pub fn table2_instance(
     width: u32,
     height: u32,
-    spec: robovac::maps::RandomMap,
+    spec: robovac::grid::maps::RandomMap,
     rng: &mut SplitMix64,
 ) -> Option<(crate::maps::MapData, Cell)> {
-    let mut grid = Box::new(robovac::Grid::<{ robovac::bits::words_for(4096) }>::new());
-    let spec = robovac::maps::RandomMap {
+    let mut grid = Box::new(robovac::Grid::<{ robovac::math::bits::words_for(4096) }>::new());
+    let spec = robovac::grid::maps::RandomMap {
         width,
         height,
         ..spec
     };
-    robovac::maps::random_obstacles(&mut *grid, spec, rng).ok()?;
+    robovac::grid::maps::random_obstacles(&mut *grid, spec, rng).ok()?;
     let mut blocked = Vec::with_capacity((width * height) as usize);
     for y in 0..height as i32 {
         for x in 0..width as i32 {
@@ -240,7 +240,7 @@ pub fn table2_instance(
 pub fn table2(
     runs: usize,
     seed: u64,
-    spec: robovac::maps::RandomMap,
+    spec: robovac::grid::maps::RandomMap,
     mut each: impl FnMut(&str, usize, &crate::maps::MapData, &crate::plan::Plan),
     mut progress: impl FnMut(usize, usize),
 ) -> Result<Vec<(&'static str, robovac::coverage::PlannerKind, Table2Agg)>, String> {

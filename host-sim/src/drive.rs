@@ -4,14 +4,14 @@
 
 use std::fmt::Write as _;
 
-use robovac::follow::{follow, FollowCmd, SubPaths, DEFAULT_FOLLOW};
-use robovac::hal::{ByteSource, MotorDriver, QuadratureEncoder};
-use robovac::lidar::ld06::Ld06;
-use robovac::lidar::scan::{Scan, ScanAssembler};
-use robovac::lidar::{LidarProtocol, ParserStats};
-use robovac::lidar_map::{CellState, EvidenceMap, LidarMount};
-use robovac::odometry::{Odometry, Pose};
-use robovac::wheel_control::WheelControl;
+use robovac::nav::follow::{follow, FollowCmd, SubPaths, DEFAULT_FOLLOW};
+use robovac::robot::hal::{ByteSource, MotorDriver, QuadratureEncoder};
+use robovac::robot::lidar::ld06::Ld06;
+use robovac::robot::lidar::scan::{Scan, ScanAssembler};
+use robovac::robot::lidar::{LidarProtocol, ParserStats};
+use robovac::robot::lidar_map::{CellState, EvidenceMap, LidarMount};
+use robovac::robot::odometry::{Odometry, Pose};
+use robovac::robot::wheel_control::WheelControl;
 
 use crate::maps::MapData;
 use crate::robot::{Noise, RobotConfig, Sim, SimEncoder};
@@ -253,7 +253,7 @@ pub fn drive(opts: DriveOptions) -> Result<(DriveReport, DriveTrace), String> {
         ));
     }
     let heading = (waypoints[1].1 - start.1).atan2(waypoints[1].0 - start.0);
-    let mut rng = robovac::maps::SplitMix64::new(opts.seed ^ 0x5EED);
+    let mut rng = robovac::grid::maps::SplitMix64::new(opts.seed ^ 0x5EED);
     world.add_people(opts.people, &mut rng);
     let mut sim = Sim::new(
         cfg.clone(),

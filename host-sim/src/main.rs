@@ -13,7 +13,7 @@ use host_sim::maps::{load_map, LoadOptions, MapData};
 use host_sim::metrics::polyline_length;
 use host_sim::scen::{algo_name, parse_scen, run_scen};
 use host_sim::state::{new_grid, new_search};
-use robovac::prune::prune;
+use robovac::search::prune::prune;
 use robovac::{Algo, Cell};
 
 #[derive(Parser)]
@@ -219,10 +219,10 @@ enum BenchCmd {
         #[arg(long, default_value_t = 1)]
         seed: u64,
         /// Share of blocked cells, percent (default: the calibrated 20).
-        #[arg(long, default_value_t = robovac::maps::TABLE1_MAP.density_pct)]
+        #[arg(long, default_value_t = robovac::grid::maps::TABLE1_MAP.density_pct)]
         density: u32,
         /// Side of the corner squares starts and goals are drawn from.
-        #[arg(long, default_value_t = robovac::maps::TABLE1_CORNER)]
+        #[arg(long, default_value_t = robovac::grid::maps::TABLE1_CORNER)]
         corner: u32,
         /// Print one JSON object.
         #[arg(long)]
@@ -257,10 +257,10 @@ enum BenchCmd {
         #[arg(long, default_value_t = 1)]
         seed: u64,
         /// Share of blocked cells, percent.
-        #[arg(long, default_value_t = robovac::maps::TABLE2_MAP.density_pct)]
+        #[arg(long, default_value_t = robovac::grid::maps::TABLE2_MAP.density_pct)]
         density: u32,
         /// Largest obstacle side, cells.
-        #[arg(long, default_value_t = robovac::maps::TABLE2_MAP.max_side)]
+        #[arg(long, default_value_t = robovac::grid::maps::TABLE2_MAP.max_side)]
         max_side: u32,
         /// Write the results as JSON to this file.
         #[arg(long)]
@@ -545,9 +545,9 @@ fn cmd_table1(runs: usize, seed: u64, density: u32, corner: u32, json: bool) -> 
     if density > 60 {
         return Err("--density above 60 % leaves almost no reachable pairs".into());
     }
-    let map = robovac::maps::RandomMap {
+    let map = robovac::grid::maps::RandomMap {
         density_pct: density,
-        ..robovac::maps::TABLE1_MAP
+        ..robovac::grid::maps::TABLE1_MAP
     };
     let rows = host_sim::bench::table1(runs, seed, map, corner, |done, total| {
         if !json && std::io::stderr().is_terminal() && (done % 10 == 0 || done == total) {
@@ -674,10 +674,10 @@ fn cmd_table2(
     if let Some(d) = svg_dir {
         std::fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
     }
-    let spec = robovac::maps::RandomMap {
+    let spec = robovac::grid::maps::RandomMap {
         density_pct: density,
         max_side,
-        ..robovac::maps::TABLE2_MAP
+        ..robovac::grid::maps::TABLE2_MAP
     };
     let mut svg_err = None;
     let tty = std::io::stderr().is_terminal();
@@ -845,12 +845,12 @@ fn cmd_table2(
 }
 
 fn cmd_lidar_decode(file: &Path, protocol: &str, json: bool) -> Result<(), String> {
-    use robovac::lidar::LidarProtocol;
+    use robovac::robot::lidar::LidarProtocol;
     if protocol != "ld06" {
         return Err(format!("unknown protocol {protocol:?} (supported: ld06)"));
     }
     let bytes = std::fs::read(file).map_err(|e| format!("{}: cannot read: {e}", file.display()))?;
-    let mut p = robovac::lidar::ld06::Ld06::new();
+    let mut p = robovac::robot::lidar::ld06::Ld06::new();
     let (mut points, mut valid, mut speed_sum) = (0u64, 0u64, 0u64);
     for &b in &bytes {
         if let Some(f) = p.feed(b) {

@@ -1,6 +1,6 @@
 //! Path measurements shared by the CLI, the benchmarks and the tests.
 
-use robovac::los::supercover;
+use robovac::grid::los::supercover;
 use robovac::Cell;
 
 use crate::maps::MapData;

@@ -7,10 +7,10 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 use robovac::coverage::PlannerKind;
-use robovac::hal::{ByteSource, MotorDriver, QuadratureEncoder};
-use robovac::lidar_map::{CellState, EvidenceMap};
 use robovac::mission::{MapMode, Mission, MissionConfig, MotorCmd, Parts, State};
-use robovac::odometry::Pose;
+use robovac::robot::hal::{ByteSource, MotorDriver, QuadratureEncoder};
+use robovac::robot::lidar_map::{CellState, EvidenceMap};
+use robovac::robot::odometry::Pose;
 use robovac::Cell;
 
 use crate::drive::{HOST_EVIDENCE, MOUNT};
@@ -176,7 +176,7 @@ pub fn run_mission(
             start.0, start.1
         ));
     }
-    let mut rng = robovac::maps::SplitMix64::new(opts.seed ^ 0x5EED);
+    let mut rng = robovac::grid::maps::SplitMix64::new(opts.seed ^ 0x5EED);
     world.add_people(opts.people, &mut rng);
     // People do not start on the dock.
     for p in &mut world.people {

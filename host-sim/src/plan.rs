@@ -4,7 +4,7 @@
 use std::time::Instant;
 
 use robovac::coverage::{Coverage, PlanStats, PlannerKind, Step, Waypoint};
-use robovac::metrics::{Metrics, MetricsRecorder, SegmentKind};
+use robovac::verify::metrics::{Metrics, MetricsRecorder, SegmentKind};
 use robovac::Cell;
 
 use crate::maps::MapData;
@@ -233,7 +233,7 @@ pub fn plan_on(
 /// Metrics as JSON (lengths in cells, rotation in degrees).
 pub fn metrics_json(p: &Plan) -> serde_json::Value {
     let m = &p.metrics;
-    let cells = |c: u64| c as f64 / robovac::cost::COST_PER_CELL as f64;
+    let cells = |c: u64| c as f64 / robovac::math::cost::COST_PER_CELL as f64;
     serde_json::json!({
         "reachable_cells": m.reachable_cells,
         "covered_cells": m.covered_cells,

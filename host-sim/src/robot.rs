@@ -1,15 +1,15 @@
 //! The physical twin of the robot: motors, encoders, wheel slip, body
 //! collisions and an LD06 lidar that emits real frames as bytes at the
 //! baud rate's pace. Deterministic for a given seed. The core drives it
-//! through its own hardware traits ([`robovac::hal`]).
+//! through its own hardware traits ([`robovac::robot::hal`]).
 
 use std::collections::VecDeque;
 
-use robovac::hal::{ByteSource, Clock, MotorDriver, QuadratureEncoder};
-use robovac::lidar::ld06;
-use robovac::maps::SplitMix64;
-use robovac::odometry::DriveGeometry;
-use robovac::wheel_control::WheelGains;
+use robovac::grid::maps::SplitMix64;
+use robovac::robot::hal::{ByteSource, Clock, MotorDriver, QuadratureEncoder};
+use robovac::robot::lidar::ld06;
+use robovac::robot::odometry::DriveGeometry;
+use robovac::robot::wheel_control::WheelGains;
 
 use crate::world::World;
 

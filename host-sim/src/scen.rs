@@ -3,7 +3,7 @@
 use std::path::Path;
 use std::time::Instant;
 
-use robovac::prune::prune;
+use robovac::search::prune::prune;
 use robovac::{Algo, Cell};
 
 use crate::maps::{MapData, MapError};

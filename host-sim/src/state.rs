@@ -2,7 +2,7 @@
 //! maps are 512 × 512; real floor plans resampled to robot cells are far
 //! smaller).
 
-use robovac::bits::words_for;
+use robovac::math::bits::words_for;
 use robovac::{Grid, SearchState};
 
 /// Largest map the CLI takes, in cells.

@@ -4,7 +4,7 @@
 
 use std::fmt::Write;
 
-use robovac::metrics::SegmentKind;
+use robovac::verify::metrics::SegmentKind;
 
 use crate::maps::MapData;
 use crate::plan::Plan;
@@ -131,7 +131,7 @@ pub fn plan_svg(map: &MapData, p: &Plan, title: &str) -> String {
         r * 1.3
     );
     let m = &p.metrics;
-    let cells = |c: u64| c as f64 / robovac::cost::COST_PER_CELL as f64;
+    let cells = |c: u64| c as f64 / robovac::math::cost::COST_PER_CELL as f64;
     let lines = [
         format!("{title} — planner {}, {}x{} cells", p.kind.name(), map.width, map.height),
         format!(

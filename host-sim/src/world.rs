@@ -4,7 +4,7 @@
 //! World frame: metres, x east, y north, origin at the map's bottom-left
 //! corner (the same frame as the core's evidence map, in mm).
 
-use robovac::maps::SplitMix64;
+use robovac::grid::maps::SplitMix64;
 
 use crate::maps::MapData;
 

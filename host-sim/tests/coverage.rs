@@ -7,9 +7,9 @@ use host_sim::maps::MapData;
 use host_sim::plan::{new_planner, plan, plan_on, Plan, ALL_PLANNERS};
 use host_sim::state::{new_grid, HOST_WORDS};
 use proptest::prelude::*;
-use robovac::check::Checker;
 use robovac::coverage::{Coverage, PlannerKind, Step};
-use robovac::metrics::SegmentKind;
+use robovac::verify::check::Checker;
+use robovac::verify::metrics::SegmentKind;
 use robovac::{Cell, Grid};
 
 fn map_from_ascii(s: &str) -> MapData {
@@ -80,7 +80,7 @@ fn check(map: &MapData, p: &Plan) {
         "{name}: coverage {}",
         p.coverage()
     );
-    let cells = |v: u64| v as f64 / robovac::cost::COST_PER_CELL as f64;
+    let cells = |v: u64| v as f64 / robovac::math::cost::COST_PER_CELL as f64;
     let tol = |x: f64| 1e-4 * x + 1e-3 * (p.waypoints.len() as f64).sqrt();
     assert!(
         (cells(m.coverage_path_cost) - cover_len).abs() <= tol(cover_len),
@@ -194,11 +194,11 @@ fn movingai_and_table2_maps() {
         let map = host_sim::maps::load_map(&path, Default::default()).unwrap();
         check_all(&map, None);
     }
-    let mut rng = robovac::maps::SplitMix64::new(5);
+    let mut rng = robovac::grid::maps::SplitMix64::new(5);
     for (_, w, h) in host_sim::bench::TABLE2_SIZES {
         for _ in 0..5 {
             let (map, start) =
-                host_sim::bench::table2_instance(w, h, robovac::maps::TABLE2_MAP, &mut rng)
+                host_sim::bench::table2_instance(w, h, robovac::grid::maps::TABLE2_MAP, &mut rng)
                     .unwrap();
             check_all(&map, Some(start));
         }
@@ -206,11 +206,11 @@ fn movingai_and_table2_maps() {
 }
 
 fn random_map(w: u32, h: u32, density: u32, seed: u64, kind: u8) -> MapData {
-    let mut rng = robovac::maps::SplitMix64::new(seed);
+    let mut rng = robovac::grid::maps::SplitMix64::new(seed);
     let mut g: Box<Grid<{ 64 * 64 / 32 }>> = Box::new(Grid::new());
-    robovac::maps::random_obstacles(
+    robovac::grid::maps::random_obstacles(
         &mut *g,
-        robovac::maps::RandomMap {
+        robovac::grid::maps::RandomMap {
             width: w,
             height: h,
             density_pct: density,
@@ -279,9 +279,10 @@ proptest! {
 
 #[test]
 fn node_budget_bounds_every_call_and_changes_nothing() {
-    let mut rng = robovac::maps::SplitMix64::new(11);
+    let mut rng = robovac::grid::maps::SplitMix64::new(11);
     let (map, start) =
-        host_sim::bench::table2_instance(30, 50, robovac::maps::TABLE2_MAP, &mut rng).unwrap();
+        host_sim::bench::table2_instance(30, 50, robovac::grid::maps::TABLE2_MAP, &mut rng)
+            .unwrap();
     for kind in ALL_PLANNERS {
         let mut g1 = new_grid();
         map.to_grid(&mut *g1).unwrap();
@@ -306,10 +307,11 @@ fn full_list_keeps_coverage_complete() {
     // A backtracking list of 4 points overflows constantly; the rescan
     // policy still covers everything.
     type Tiny = Coverage<4096, 128, 4096, 4, 4096>;
-    let mut rng = robovac::maps::SplitMix64::new(3);
+    let mut rng = robovac::grid::maps::SplitMix64::new(3);
     for kind in ALL_PLANNERS {
         let (map, start) =
-            host_sim::bench::table2_instance(30, 50, robovac::maps::TABLE2_MAP, &mut rng).unwrap();
+            host_sim::bench::table2_instance(30, 50, robovac::grid::maps::TABLE2_MAP, &mut rng)
+                .unwrap();
         let mut grid: Box<Grid<128>> = Box::new(Grid::new());
         map.to_grid(&mut *grid).unwrap();
         let mut p: Box<Tiny> = Box::new(Tiny::new(kind));
@@ -383,9 +385,14 @@ fn obstacles_appearing_mid_run_are_handled_without_restart() {
 #[test]
 fn papers_claims_hold_in_direction_on_wide_maps() {
     // A small Table 2 run: our variant cuts repeated travel against B-OHA*.
-    let rows =
-        host_sim::bench::table2(20, 9, robovac::maps::TABLE2_MAP, |_, _, _, _| {}, |_, _| {})
-            .unwrap();
+    let rows = host_sim::bench::table2(
+        20,
+        9,
+        robovac::grid::maps::TABLE2_MAP,
+        |_, _, _, _| {},
+        |_, _| {},
+    )
+    .unwrap();
     for (label, _, _) in host_sim::bench::TABLE2_SIZES {
         let get = |k: PlannerKind, m: &str| {
             rows.iter()

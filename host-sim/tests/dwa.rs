@@ -1,7 +1,7 @@
 //! The integer DWA against a floating-point reference of the same
 //! formulation (Fox, Burgard and Thrun) on thousands of random situations.
 
-use robovac::dwa::{plan, window, DwaParams, DwaResult, DEFAULT_PARAMS, V_SAMPLES, W_SAMPLES};
+use robovac::nav::dwa::{plan, window, DwaParams, DwaResult, DEFAULT_PARAMS, V_SAMPLES, W_SAMPLES};
 
 #[derive(Clone, Copy, Debug)]
 struct FSample {
@@ -81,7 +81,7 @@ fn f_scores(p: &DwaParams, s: &[FSample]) -> Vec<Option<f64>> {
 #[test]
 fn integer_dwa_agrees_with_float() {
     let p = DEFAULT_PARAMS;
-    let mut rng = robovac::maps::SplitMix64::new(2026);
+    let mut rng = robovac::grid::maps::SplitMix64::new(2026);
     let (mut n, mut same, mut close, mut both_none, mut worst) = (0, 0, 0, 0, 0.0f64);
     let mut disagree_admissible = 0;
     for _ in 0..3000 {
@@ -239,7 +239,7 @@ fn dwa_behaves() {
 
 #[test]
 fn recorded_situation() {
-    use robovac::dwa::{RECORDED_GOAL, RECORDED_OBSTACLES, RECORDED_VELOCITY};
+    use robovac::nav::dwa::{RECORDED_GOAL, RECORDED_OBSTACLES, RECORDED_VELOCITY};
     let r = plan(
         &DEFAULT_PARAMS,
         RECORDED_VELOCITY.0,
@@ -253,7 +253,7 @@ fn recorded_situation() {
         DwaResult::Command {
             v_mm_s, w_mrad_s, ..
         } => {
-            assert_eq!((v_mm_s, w_mrad_s), robovac::dwa::RECORDED_COMMAND);
+            assert_eq!((v_mm_s, w_mrad_s), robovac::nav::dwa::RECORDED_COMMAND);
         }
         DwaResult::NoAdmissible => panic!("no admissible motion"),
     }

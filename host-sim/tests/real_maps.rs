@@ -117,8 +117,9 @@ fn real_maps_load_and_plan() {
                 for kind in host_sim::plan::ALL_PLANNERS {
                     let p =
                         host_sim::plan::plan(&m, kind, Some(s)).unwrap_or_else(|e| panic!("{e}"));
-                    let mut ck: Box<robovac::check::Checker<{ host_sim::state::HOST_WORDS }>> =
-                        Box::new(robovac::check::Checker::new());
+                    let mut ck: Box<
+                        robovac::verify::check::Checker<{ host_sim::state::HOST_WORDS }>,
+                    > = Box::new(robovac::verify::check::Checker::new());
                     ck.start(&*grid, s).unwrap();
                     for w in &p.moves {
                         ck.push(&*grid, w.to, w.kind, w.starts_segment)

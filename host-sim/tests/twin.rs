@@ -5,9 +5,9 @@ use host_sim::drive::{drive, parse_route, DriveOptions, Route};
 use host_sim::maps::MapData;
 use host_sim::robot::{Noise, RobotConfig, Sim};
 use host_sim::world::World;
-use robovac::hal::{ByteSource, MotorDriver};
-use robovac::lidar::ld06::Ld06;
-use robovac::lidar::LidarProtocol;
+use robovac::robot::hal::{ByteSource, MotorDriver};
+use robovac::robot::lidar::ld06::Ld06;
+use robovac::robot::lidar::LidarProtocol;
 
 fn room(w: u32, h: u32) -> MapData {
     let mut blocked = vec![false; (w * h) as usize];
@@ -154,7 +154,7 @@ fn driving_into_a_wall_is_a_collision_and_stops_the_body() {
 #[test]
 fn people_walk_and_are_seen() {
     let mut world = World::new(room(60, 60), 0.1);
-    world.add_people(2, &mut robovac::maps::SplitMix64::new(9));
+    world.add_people(2, &mut robovac::grid::maps::SplitMix64::new(9));
     assert_eq!(world.people.len(), 2);
     let p0 = world.people[0].pos;
     for _ in 0..1000 {

@@ -109,9 +109,9 @@ pub fn check_grid_path(grid: &TGrid, path: &[Cell]) -> f64 {
 }
 
 /// Conservative line test independent of the supercover walk in
-/// `robovac::los`: the checker's exact segment/closed-square intersection.
+/// `robovac::grid::los`: the checker's exact segment/closed-square intersection.
 pub fn segment_clear(grid: &TGrid, a: Cell, b: Cell) -> bool {
-    robovac::check::touched_cells(a, b, |x, y| free(grid, x, y))
+    robovac::verify::check::touched_cells(a, b, |x, y| free(grid, x, y))
 }
 
 pub fn polyline_len(p: &[Cell]) -> f64 {
@@ -126,10 +126,10 @@ pub fn polyline_len(p: &[Cell]) -> f64 {
 /// A random map from a seed (density in percent), bordered or not.
 pub fn random_grid(w: u32, h: u32, density: u32, seed: u64) -> Box<TGrid> {
     let mut g = Box::new(TGrid::new());
-    let mut rng = robovac::maps::SplitMix64::new(seed);
-    robovac::maps::random_obstacles(
+    let mut rng = robovac::grid::maps::SplitMix64::new(seed);
+    robovac::grid::maps::random_obstacles(
         &mut *g,
-        robovac::maps::RandomMap {
+        robovac::grid::maps::RandomMap {
             width: w,
             height: h,
             density_pct: density,

@@ -1,0 +1,647 @@
+//! The complete-coverage planner's shared machinery (seed 000 Algorithm 2
+//! and its baselines): the online step loop, the bounded backtracking list,
+//! transit search and following, and the completeness fallback.
+//!
+//! The planner is **online**: [`Coverage::step`] returns the next waypoint
+//! to drive to, given the grid as known now, so the firmware calls it from
+//! its control loop. A transit search is spread over calls with a node
+//! budget per call ([`Step::Pending`] until it finishes); the batch planner
+//! of the CLI is the same code driven to completion ([`Coverage::run`]).
+//!
+//! The planner marks the grid's `Covered` layer as the robot passes (the
+//! cells of each segment's supercover line, the definition of
+//! [`crate::verify::metrics`]), and reads obstacles afresh at every step: a cell
+//! that turns into an obstacle, or one discovered later, is handled without
+//! a restart (a blocked transit segment is re-planned; an unreachable goal
+//! is abandoned).
+//!
+//! What differs between the planners — move priority, what enters the
+//! backtracking list, how it is pruned, which goals a transit aims at and
+//! with which search — lives in one file per planner under [`planners`]
+//! ([`planners::b_oha`], [`planners::ba_star`], [`planners::b_theta`],
+//! [`planners::b_oha_pc`]), each naming its [`rules::Rules`];
+//! [`PlannerKind::rules`] is the one `match` on the planner kind.
+//!
+//! Files: [`cells`], [`list`] and [`rules`] are leaves; the planners use
+//! them; this file, the loop, uses all of them. Uses `grid`, `search`,
+//! `math` and `verify::metrics` (the segment kinds).
+//!
+//! **Entering a backtracking point is cleaning (our rule).** When the goal
+//! of a transit is an uncovered cell (B-OHA*'s points always are), the
+//! transit ends at the cell before it and the step into the goal is the
+//! first cover move of the new segment. BA*'s points are covered cells next
+//! to uncovered ones, and BA* then steps into the uncovered area as a cover
+//! move; the rule gives every planner the same convention, so "backtracking
+//! path length" means the same thing for all of them.
+//!
+//! **Segments.** A cover segment starts at the first move and after every
+//! critical point; [`Waypoint::starts_segment`] marks it, so the paper's
+//! "segments ≈ backtracks + 1" holds even when a backtracking point is a
+//! neighbour and no transit is needed.
+//!
+//! **Bounded list and completeness (our policy).** The backtracking list has
+//! a fixed capacity `LCAP`. A point that does not fit is dropped and the
+//! overflow counted. Whenever the list runs empty, the planner **rescans**
+//! the grid for uncovered free cells that are corners of their uncovered
+//! region (the cells seed 000's pruning rule keeps) and refills the list.
+//! Every uncovered region has such a cell (its top-left-most cell has no
+//! uncovered neighbour to the north or west), so no reachable area is ever
+//! silently missed, whatever the capacity and whatever the planner's own
+//! list rule. Goals that a search proves unreachable are abandoned (an
+//! enclosed pocket), so the run ends. The rescan costs O(cells) once per
+//! emptied list.
+
+pub mod cells;
+pub mod list;
+pub mod planners;
+pub mod rules;
+
+pub use cells::{nearest_k, uncovered, E_, N_, S_, W_};
+pub use list::BacktrackList;
+
+use crate::grid::los::{line_of_sight, supercover};
+use crate::grid::{Cell, Grid, Layer};
+use crate::search::prune::prune;
+use crate::search::{Algo, Progress, SearchError, SearchState, MAX_GOALS};
+use crate::verify::metrics::SegmentKind;
+use planners::{b_oha, b_oha_pc, b_theta, ba_star};
+use rules::{ListRule, LocalMove, Priority, Rules};
+
+/// The coverage planners.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[repr(u8)]
+pub enum PlannerKind {
+    /// B-OHA*, seed 000 (ALGORITHMS.md §1).
+    BOha = 0,
+    /// BA* (Viet et al. 2013), the paper's first baseline.
+    BaStar,
+    /// B-Theta* (Choi et al. 2017), the paper's second baseline.
+    BTheta,
+    /// B-OHA*-PC: our variant of B-OHA* (see [`crate::coverage::planners::b_oha_pc`]).
+    BOhaPc,
+}
+
+impl PlannerKind {
+    /// The name used on the command line.
+    pub const fn name(self) -> &'static str {
+        match self {
+            PlannerKind::BOha => "b-oha",
+            PlannerKind::BaStar => "ba",
+            PlannerKind::BTheta => "b-theta",
+            PlannerKind::BOhaPc => "b-oha-pc",
+        }
+    }
+
+    /// The planner's rules: the one `match` on the kind.
+    pub const fn rules(self) -> Rules {
+        match self {
+            PlannerKind::BOha => b_oha::RULES,
+            PlannerKind::BaStar => ba_star::RULES,
+            PlannerKind::BTheta => b_theta::RULES,
+            PlannerKind::BOhaPc => b_oha_pc::RULES,
+        }
+    }
+}
+
+/// A waypoint to drive straight to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Waypoint {
+    /// The cell to drive to.
+    pub to: Cell,
+    /// Cleaning (local coverage) or transit to a backtracking point.
+    pub kind: SegmentKind,
+    /// The first cover move after a critical point (or of the run).
+    pub starts_segment: bool,
+}
+
+/// The next thing for the robot to do.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Step {
+    /// Drive straight to a waypoint.
+    Move(Waypoint),
+    /// A transit search used up this call's node budget; call again.
+    Pending,
+    /// Every reachable cell is covered.
+    Done,
+}
+
+/// Why planning stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum CoverageError {
+    /// The start is off the map or an obstacle.
+    BadStart,
+    /// `step` before `start`.
+    NotStarted,
+    /// A transit search failed for capacity (open list, map size).
+    Search(SearchError),
+    /// A transit path is longer than the path buffer `PCAP`.
+    PathTooLong,
+}
+
+impl CoverageError {
+    /// A short human-readable description.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            CoverageError::BadStart => "start is off the map or blocked",
+            CoverageError::NotStarted => "planner not started",
+            CoverageError::Search(e) => e.as_str(),
+            CoverageError::PathTooLong => "transit path exceeds the path buffer",
+        }
+    }
+}
+
+impl core::fmt::Display for CoverageError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// Counters the planner keeps (the metrics' planner-side fields).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct PlanStats {
+    /// Points ever inserted into the backtracking list.
+    pub backtrack_points_total: u32,
+    /// The list's size after each critical point's pruning (B-OHA*) or
+    /// rebuild (BA*), summed: the paper's count, as its ≈ 700 (B-OHA*) and
+    /// ≈ 3 885 (BA*) suggest.
+    pub backtrack_points_kept: u32,
+    /// Nodes expanded by transit searches.
+    pub nodes_expanded: u64,
+    /// Critical points reached (ends of local coverage).
+    pub critical_points: u32,
+    /// Transit searches run.
+    pub searches: u32,
+    /// Rescans that found uncovered cells the list had lost.
+    pub rescans_with_points: u32,
+    /// Points dropped because the list was full.
+    pub list_overflows: u32,
+    /// Goals abandoned as unreachable.
+    pub abandoned_goals: u32,
+    /// Transit segments re-planned because the grid changed under them.
+    pub replans: u32,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+enum Phase {
+    Idle = 0,
+    Local,
+    Critical,
+    Searching,
+    Following,
+    Done,
+}
+
+/// The coverage planner. `N`, `NW`, `OPEN` size its search state (see
+/// [`SearchState`]), `LCAP` the backtracking list, `PCAP` the transit path
+/// buffer. All memory is inline; nothing is allocated.
+///
+/// Like [`SearchState`], every field is an integer, an array of integers or
+/// a `#[repr(u8)]` enum whose discriminant 0 is a variant, so all-zero bytes
+/// are a valid idle B-OHA* planner (a host may allocate one zeroed on the
+/// heap and call [`Coverage::set_kind`]).
+pub struct Coverage<
+    const N: usize,
+    const NW: usize,
+    const OPEN: usize,
+    const LCAP: usize,
+    const PCAP: usize,
+> {
+    kind: PlannerKind,
+    search: SearchState<N, NW, OPEN>,
+    list: BacktrackList<LCAP, NW>,
+    path: [Cell; PCAP],
+    path_len: usize,
+    path_pos: usize,
+    /// Index of the first cover waypoint of the followed path.
+    transit_end: usize,
+    new_segment: bool,
+    goals: [Cell; MAX_GOALS],
+    goal_count: usize,
+    cur: Cell,
+    priority: [(i32, i32); 4],
+    phase: Phase,
+    stats: PlanStats,
+    last_step_nodes: u32,
+}
+
+impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, const PCAP: usize>
+    Coverage<N, NW, OPEN, LCAP, PCAP>
+{
+    /// A planner of the given kind (usable in a `static`).
+    pub const fn new(kind: PlannerKind) -> Self {
+        Self {
+            kind,
+            search: SearchState::new(),
+            list: BacktrackList::new(),
+            path: [Cell::new(0, 0); PCAP],
+            path_len: 0,
+            path_pos: 0,
+            transit_end: 0,
+            new_segment: false,
+            goals: [Cell::new(0, 0); MAX_GOALS],
+            goal_count: 0,
+            cur: Cell::new(0, 0),
+            priority: [N_, S_, E_, W_],
+            phase: Phase::Idle,
+            stats: PlanStats {
+                backtrack_points_total: 0,
+                backtrack_points_kept: 0,
+                nodes_expanded: 0,
+                critical_points: 0,
+                searches: 0,
+                rescans_with_points: 0,
+                list_overflows: 0,
+                abandoned_goals: 0,
+                replans: 0,
+            },
+            last_step_nodes: 0,
+        }
+    }
+
+    /// Changes the planner kind (takes effect at the next `start`).
+    pub fn set_kind(&mut self, kind: PlannerKind) {
+        self.kind = kind;
+        self.phase = Phase::Idle;
+    }
+
+    /// Which planner this is.
+    pub fn kind(&self) -> PlannerKind {
+        self.kind
+    }
+
+    /// Nodes the last `step` call expanded (at most its budget).
+    pub fn last_step_nodes(&self) -> u32 {
+        self.last_step_nodes
+    }
+
+    /// Counters so far.
+    pub fn stats(&self) -> PlanStats {
+        PlanStats {
+            backtrack_points_total: self.list.inserted(),
+            list_overflows: self.list.overflows(),
+            ..self.stats
+        }
+    }
+
+    /// The planner's search state, for point-to-point queries between
+    /// runs (it is idle whenever the planner is not searching), so a
+    /// firmware needs one search state, not two.
+    pub fn search_state_mut(&mut self) -> &mut SearchState<N, NW, OPEN> {
+        &mut self.search
+    }
+
+    /// The current backtracking list.
+    pub fn backtrack_list(&self) -> &[Cell] {
+        self.list.as_slice()
+    }
+
+    /// Takes up planning again after [`Step::Done`] (the caller cleared
+    /// the covered mark of cells it could not clean): the next step
+    /// rescans for uncovered cells. `cur` becomes `at`, where the robot
+    /// will be.
+    pub fn reopen(&mut self, at: Cell) {
+        if self.phase == Phase::Done {
+            self.phase = Phase::Critical;
+            self.cur = at;
+        }
+    }
+
+    /// Forgets every goal given up as unreachable, so the next rescan
+    /// tries them again (the map may have opened: a person who stood in a
+    /// doorway has walked on). Returns how many there were; with some, a
+    /// finished planner takes up planning again from `at`.
+    pub fn retry_abandoned(&mut self, at: Cell) -> u32 {
+        let n = self.list.forget_abandoned();
+        if n > 0 {
+            self.reopen(at);
+        }
+        n
+    }
+
+    /// Puts a cell back on the backtracking list (a cell the caller
+    /// un-covered because the robot could not clean it). False when the
+    /// list is full.
+    pub fn add_point<const GW: usize>(&mut self, grid: &Grid<GW>, c: Cell) -> bool {
+        self.list.push(grid, c)
+    }
+
+    /// The robot's current cell as the planner sees it.
+    pub fn position(&self) -> Cell {
+        self.cur
+    }
+
+    /// Starts a run at `start`: clears the covered layer, marks the start
+    /// covered and sets the move priority.
+    pub fn start<const GW: usize>(
+        &mut self,
+        grid: &mut Grid<GW>,
+        start: Cell,
+    ) -> Result<(), CoverageError> {
+        let (x, y) = start.xy();
+        if grid.cells() > N || grid.is_blocked(x, y) {
+            return Err(CoverageError::BadStart);
+        }
+        grid.clear_layer(Layer::Covered);
+        self.list.reset();
+        self.path_len = 0;
+        self.path_pos = 0;
+        self.goal_count = 0;
+        self.stats = PlanStats::default();
+        self.cur = start;
+        self.priority = match self.kind.rules().priority {
+            Priority::ByAspect => b_oha::priority(grid),
+            Priority::Fixed(p) => p,
+        };
+        let _ = grid.set(Layer::Covered, x, y, true);
+        self.on_arrive(grid);
+        self.new_segment = true;
+        self.phase = Phase::Local;
+        Ok(())
+    }
+
+    /// Runs to completion, calling `emit` for every waypoint (the batch
+    /// planner of the CLI and the tests).
+    pub fn run<const GW: usize>(
+        &mut self,
+        grid: &mut Grid<GW>,
+        start: Cell,
+        mut emit: impl FnMut(Waypoint),
+    ) -> Result<PlanStats, CoverageError> {
+        self.start(grid, start)?;
+        loop {
+            match self.step(grid, u32::MAX)? {
+                Step::Done => return Ok(self.stats()),
+                Step::Move(w) => emit(w),
+                Step::Pending => {}
+            }
+        }
+    }
+
+    /// The next waypoint. A transit search expands at most `budget` nodes
+    /// in this call; other work per call is one move, or at a critical point
+    /// one pass over the list (and, when it runs empty, one over the grid).
+    pub fn step<const GW: usize>(
+        &mut self,
+        grid: &mut Grid<GW>,
+        budget: u32,
+    ) -> Result<Step, CoverageError> {
+        self.last_step_nodes = 0;
+        // One budget for every search this call runs (a failed search may
+        // be followed by another toward other goals).
+        let mut left = budget;
+        loop {
+            match self.phase {
+                Phase::Idle => return Err(CoverageError::NotStarted),
+                Phase::Done => return Ok(Step::Done),
+                Phase::Local => {
+                    if let Some(next) = self.next_local_move(grid) {
+                        self.cover_segment(grid, next);
+                        self.cur = next;
+                        self.on_arrive(grid);
+                        return Ok(self.emit(next, SegmentKind::Cover));
+                    }
+                    self.new_segment = true;
+                    self.phase = Phase::Critical;
+                    self.stats.critical_points += 1;
+                    match self.kind.rules().list {
+                        ListRule::NeighboursPrunedToCorners => {
+                            b_oha::prune_list(&mut self.list, grid)
+                        }
+                        ListRule::RebuiltFromCovered => ba_star::rebuild_list(&mut self.list, grid),
+                    }
+                    self.stats.backtrack_points_kept += self.list.len() as u32;
+                }
+                Phase::Critical => {
+                    self.drop_stale(grid);
+                    if self.list.is_empty() {
+                        self.rescan(grid);
+                    }
+                    if self.list.is_empty() {
+                        self.phase = Phase::Done;
+                        return Ok(Step::Done);
+                    }
+                    let algo = self.choose_goals();
+                    let goals = self.goals.get(..self.goal_count).unwrap_or(&[]);
+                    self.search
+                        .begin(grid, self.cur, goals, algo)
+                        .map_err(CoverageError::Search)?;
+                    self.stats.searches += 1;
+                    self.phase = Phase::Searching;
+                }
+                Phase::Searching if left == 0 => return Ok(Step::Pending),
+                Phase::Searching => match self.resume_search(grid, &mut left) {
+                    Ok(Progress::Pending { .. }) => return Ok(Step::Pending),
+                    Ok(Progress::Found(st)) => {
+                        self.stats.nodes_expanded += st.nodes_expanded as u64;
+                        let n = self
+                            .search
+                            .write_path(&mut self.path)
+                            .map_err(|_| CoverageError::PathTooLong)?;
+                        self.split_path(grid, n);
+                        self.path_pos = 1;
+                        self.phase = Phase::Following;
+                    }
+                    Err(SearchError::NoPath) => {
+                        self.stats.nodes_expanded += self.search.nodes_expanded() as u64;
+                        for k in 0..self.goal_count {
+                            if let Some(&g) = self.goals.get(k) {
+                                self.abandon(grid, g);
+                            }
+                        }
+                        self.phase = Phase::Critical;
+                    }
+                    Err(e) => return Err(CoverageError::Search(e)),
+                },
+                Phase::Following => {
+                    let Some(&next) = self
+                        .path
+                        .get(self.path_pos)
+                        .filter(|_| self.path_pos < self.path_len)
+                    else {
+                        self.phase = Phase::Local;
+                        self.on_arrive(grid);
+                        continue;
+                    };
+                    if !line_of_sight(grid, self.cur, next) {
+                        // The grid changed under the planned path: re-plan.
+                        self.stats.replans += 1;
+                        self.phase = Phase::Critical;
+                        continue;
+                    }
+                    self.cover_segment(grid, next);
+                    self.cur = next;
+                    let kind = if self.path_pos < self.transit_end {
+                        SegmentKind::Transit
+                    } else {
+                        SegmentKind::Cover
+                    };
+                    self.path_pos += 1;
+                    return Ok(self.emit(next, kind));
+                }
+            }
+        }
+    }
+
+    /// Resumes the transit search within what is `left` of this call's
+    /// budget, and charges what it used.
+    fn resume_search<const GW: usize>(
+        &mut self,
+        grid: &Grid<GW>,
+        left: &mut u32,
+    ) -> Result<Progress, SearchError> {
+        let before = self.search.nodes_expanded();
+        let r = self.search.resume(grid, *left);
+        let used = self.search.nodes_expanded().saturating_sub(before);
+        self.last_step_nodes += used;
+        *left = left.saturating_sub(used);
+        r
+    }
+
+    /// Makes the waypoint for a move, marking the first cover move of a
+    /// segment.
+    fn emit(&mut self, to: Cell, kind: SegmentKind) -> Step {
+        let starts_segment = kind == SegmentKind::Cover && self.new_segment;
+        if starts_segment {
+            self.new_segment = false;
+        }
+        Step::Move(Waypoint {
+            to,
+            kind,
+            starts_segment,
+        })
+    }
+
+    /// Prepares the found path (`n` cells in `self.path`) for following:
+    /// when the goal is uncovered, the transit ends at the cell before it
+    /// and the last step is a cover move; the transit part is pruned
+    /// (except for B-Theta*, whose any-angle path is followed as found).
+    fn split_path<const GW: usize>(&mut self, grid: &Grid<GW>, n: usize) {
+        let goal_uncovered = n >= 2
+            && self
+                .path
+                .get(n - 1)
+                .is_some_and(|c| !grid.get(Layer::Covered, c.x as i32, c.y as i32));
+        let t = if goal_uncovered { n - 1 } else { n };
+        let m = if self.kind.rules().prune_transit {
+            prune(grid, self.path.get_mut(..t).unwrap_or(&mut []))
+        } else {
+            t
+        };
+        if m < t {
+            self.path.copy_within(t..n, m);
+        }
+        // path[1..m] are transit waypoints, path[m..] cover moves.
+        self.transit_end = m;
+        self.path_len = m + (n - t);
+    }
+
+    /// The highest-priority 4-neighbour that is free and uncovered (our
+    /// variant: orphans first, see [`planners::b_oha_pc`]).
+    fn next_local_move<const GW: usize>(&self, grid: &Grid<GW>) -> Option<Cell> {
+        if self.kind.rules().local == LocalMove::PocketsFirst {
+            return b_oha_pc::next_move(grid, self.cur, &self.priority);
+        }
+        let (x, y) = self.cur.xy();
+        self.priority.iter().find_map(|&(dx, dy)| {
+            let (nx, ny) = (x + dx, y + dy);
+            if uncovered(grid, nx, ny) {
+                Cell::from_xy(nx, ny)
+            } else {
+                None
+            }
+        })
+    }
+
+    /// Marks the cells of the segment cur → to covered, and takes them off
+    /// the list.
+    fn cover_segment<const GW: usize>(&mut self, grid: &mut Grid<GW>, to: Cell) {
+        let w = grid.width() as usize;
+        supercover(self.cur.xy(), to.xy(), |x, y| {
+            if grid.is_free(x, y) {
+                let _ = grid.set(Layer::Covered, x, y, true);
+                let i = y as usize * w + x as usize;
+                self.list.remove_index(i, Cell::new(x as u16, y as u16));
+            }
+            true
+        });
+    }
+
+    fn on_arrive<const GW: usize>(&mut self, grid: &Grid<GW>) {
+        if self.kind.rules().list == ListRule::NeighboursPrunedToCorners {
+            b_oha::push_neighbours(&mut self.list, grid, self.cur);
+        }
+    }
+
+    /// Drops points that became obstacles or are no longer worth visiting
+    /// under the planner's own rule.
+    fn drop_stale<const GW: usize>(&mut self, grid: &mut Grid<GW>) {
+        // A point where the planner already stands (put back by a caller
+        // that un-covered it) is covered by standing there.
+        let (cx, cy) = self.cur.xy();
+        if uncovered(grid, cx, cy) && self.list.as_slice().contains(&self.cur) {
+            let _ = grid.set(Layer::Covered, cx, cy, true);
+        }
+        let rule = self.kind.rules().list;
+        self.list.retain(grid, |g, c| {
+            let (x, y) = c.xy();
+            !g.is_blocked(x, y)
+                && match rule {
+                    // B-OHA* points are uncovered cells.
+                    ListRule::NeighboursPrunedToCorners => !g.get(Layer::Covered, x, y),
+                    // BA* points are covered cells with uncovered neighbours,
+                    // or (fallback) uncovered cells.
+                    ListRule::RebuiltFromCovered => {
+                        !g.get(Layer::Covered, x, y) || ba_star::b(g, x, y) > 0
+                    }
+                }
+        });
+    }
+
+    fn abandon<const GW: usize>(&mut self, grid: &Grid<GW>, c: Cell) {
+        if self.list.abandon(grid, c) {
+            self.stats.abandoned_goals += 1;
+        }
+    }
+
+    /// The completeness fallback: refills the list with the uncovered
+    /// corner cells of every uncovered region (see the module docs).
+    fn rescan<const GW: usize>(&mut self, grid: &Grid<GW>) {
+        let (w, h) = (grid.width() as i32, grid.height() as i32);
+        let mut found = false;
+        for y in 0..h {
+            for x in 0..w {
+                if !uncovered(grid, x, y) || !cells::is_corner(grid, x, y) {
+                    continue;
+                }
+                let Some(i) = grid.index(x, y) else { continue };
+                if self.list.is_abandoned(i) {
+                    continue;
+                }
+                found = true;
+                if !self.list.push(grid, Cell::new(x as u16, y as u16)) {
+                    if found {
+                        self.stats.rescans_with_points += 1;
+                    }
+                    return; // full: the next rescan finds the rest
+                }
+            }
+        }
+        if found {
+            self.stats.rescans_with_points += 1;
+        }
+    }
+
+    /// Fills `self.goals` for the next transit and returns the search.
+    fn choose_goals(&mut self) -> Algo {
+        let rules = self.kind.rules();
+        let k = rules.transit_goals;
+        self.goal_count = nearest_k(self.list.as_slice(), self.cur, &mut self.goals, k);
+        rules.transit
+    }
+}

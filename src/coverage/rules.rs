@@ -1,0 +1,52 @@
+//! What distinguishes one coverage planner from another, as data: each
+//! planner file under [`super::planners`] names its [`Rules`], and the step
+//! loop in [`super`] acts on them. A leaf: uses `search` (for [`Algo`]).
+
+use crate::search::Algo;
+
+/// The move priority of local coverage.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Priority {
+    /// A fixed order of (dx, dy) moves.
+    Fixed([(i32, i32); 4]),
+    /// Along the map's long side (B-OHA* §2.1).
+    ByAspect,
+}
+
+/// How the next local move is chosen.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LocalMove {
+    /// The highest-priority free uncovered 4-neighbour.
+    Priority,
+    /// A neighbour leading into a small pocket first (B-OHA*-PC).
+    PocketsFirst,
+}
+
+/// What enters the backtracking list, and when it is trimmed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ListRule {
+    /// Uncovered 8-neighbours on arrival at each cell; at a critical point
+    /// only uncovered corner cells stay (B-OHA*). Points are uncovered
+    /// cells.
+    NeighboursPrunedToCorners,
+    /// Rebuilt at every critical point from covered cells with b(s) ≥ 1
+    /// (BA*). Points are covered cells next to uncovered ones.
+    RebuiltFromCovered,
+}
+
+/// A planner's rules.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Rules {
+    /// Move priority.
+    pub priority: Priority,
+    /// Local move choice.
+    pub local: LocalMove,
+    /// Backtracking list rule.
+    pub list: ListRule,
+    /// Goals per transit search (the nearest points, straight-line).
+    pub transit_goals: usize,
+    /// The transit search.
+    pub transit: Algo,
+    /// Whether a transit path is pruned (Algorithm 1) before it is driven.
+    pub prune_transit: bool,
+}

@@ -1,0 +1,9 @@
+//! The map as the planners see it: the bit-packed occupancy grid with its
+//! covered and known layers, line of sight, and the built-in maps.
+//! Uses `math` only.
+
+pub mod los;
+pub mod maps;
+pub mod occupancy;
+
+pub use occupancy::{Cell, Grid, GridError, Layer};

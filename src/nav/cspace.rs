@@ -1,0 +1,255 @@
+//! Configuration space: which positions the robot's centre may take, on the
+//! coarse planning grid and on the fine grid of the evidence map. Shared by
+//! the mission executive (planning cells, edge pass, transit home) and
+//! written once here.
+//!
+//! Geometry is exact for square cells: a position is free when the disc of
+//! the robot's radius plus margin around it overlaps no occupied evidence
+//! cell (as a closed square; the map's edge counts as a wall). For a wall on
+//! a cell boundary and a clearance that is an odd multiple of half the cell
+//! side (165 mm + 10 mm = 3.5 × 50 mm), the outermost free fine cells lie
+//! exactly at that clearance, so an edge pass along them cleans up to
+//! `margin` from the wall.
+//!
+//! Coordinates here are "index space": mm from the map's top-left corner,
+//! x right, y down (evidence cell (cx, cy) spans [cx·res, (cx+1)·res] ×
+//! [cy·res, (cy+1)·res]). World y is the map's height in mm minus this y.
+
+use crate::grid::{Grid, GridError};
+use crate::robot::lidar_map::{CellState, EvidenceMap};
+
+/// Squared distance (mm²) from point (px, py) to the closed square of
+/// evidence cell (cx, cy), in index space.
+#[inline]
+pub fn square_dist2(px: i64, py: i64, cx: i64, cy: i64, res: i64) -> i64 {
+    let (x0, y0) = (cx * res, cy * res);
+    let dx = (x0 - px).max(0).max(px - (x0 + res));
+    let dy = (y0 - py).max(0).max(py - (y0 + res));
+    dx * dx + dy * dy
+}
+
+/// True when an evidence cell stops the robot: occupied, off the map, or
+/// unknown when `unknown_blocks`.
+#[inline]
+pub fn cell_blocks<const EV: usize>(
+    map: &EvidenceMap<EV>,
+    cx: i32,
+    cy: i32,
+    unknown_blocks: bool,
+) -> bool {
+    if cx < 0 || cy < 0 || cx as u32 >= map.width() || cy as u32 >= map.height() {
+        return true;
+    }
+    match map.state(cx, cy) {
+        CellState::Occupied => true,
+        CellState::Unknown => unknown_blocks,
+        CellState::Free => false,
+    }
+}
+
+/// True when a disc of `radius_mm` at index-space point (px, py) overlaps a
+/// blocking evidence cell. Work: (2·radius/res + 3)² cells.
+pub fn disc_blocked<const EV: usize>(
+    map: &EvidenceMap<EV>,
+    px: i64,
+    py: i64,
+    radius_mm: i64,
+    unknown_blocks: bool,
+) -> bool {
+    let res = map.res_mm().max(1) as i64;
+    let r2 = radius_mm * radius_mm;
+    let (c0x, c1x) = (
+        (px - radius_mm).div_euclid(res),
+        (px + radius_mm).div_euclid(res),
+    );
+    let (c0y, c1y) = (
+        (py - radius_mm).div_euclid(res),
+        (py + radius_mm).div_euclid(res),
+    );
+    for cy in c0y..=c1y {
+        for cx in c0x..=c1x {
+            if square_dist2(px, py, cx, cy, res) < r2
+                && cell_blocks(map, cx as i32, cy as i32, unknown_blocks)
+            {
+                return true;
+            }
+        }
+    }
+    false
+}
+
+/// Sizes `coarse` to planning cells of `cell_mm` over the evidence map
+/// (keeping nothing), all free.
+pub fn size_coarse<const EV: usize, const GW: usize>(
+    map: &EvidenceMap<EV>,
+    coarse: &mut Grid<GW>,
+    cell_mm: u32,
+) -> Result<(), GridError> {
+    let cell = cell_mm.max(1);
+    coarse.reset(
+        map.width() * map.res_mm() / cell,
+        map.height() * map.res_mm() / cell,
+    )
+}
+
+/// Where the robot stands for planning cell (gx, gy) of `cell_mm`, in
+/// index space (always on floor the map has seen free): the cell's centre
+/// when the robot fits there, else the
+/// fine-cell centre inside the planning cell nearest to it where the robot
+/// fits; None when it fits nowhere in the cell. This keeps narrow passages
+/// that do not line up with the planning grid (a 0.4 m gap between a
+/// counter and a wall) in the plan. Work: up to (cell/res)² + 1 disc
+/// checks.
+pub fn coarse_anchor<const EV: usize>(
+    map: &EvidenceMap<EV>,
+    cell_mm: u32,
+    radius_mm: u32,
+    unknown_blocks: bool,
+    gx: i32,
+    gy: i32,
+) -> Option<(i64, i64)> {
+    let cell = cell_mm.max(1) as i64;
+    let (x0, y0) = (gx as i64 * cell, gy as i64 * cell);
+    let (cx, cy) = (x0 + cell / 2, y0 + cell / 2);
+    let r = radius_mm as i64;
+    // The robot stands only on floor the map has seen: with unknown space
+    // counted as free, a cell beside a sofa whose inside was never seen
+    // would otherwise get an anchor inside the sofa.
+    let seen = |px: i64, py: i64| {
+        let res = map.res_mm().max(1) as i64;
+        map.state(px.div_euclid(res) as i32, py.div_euclid(res) as i32) == CellState::Free
+    };
+    if seen(cx, cy) && !disc_blocked(map, cx, cy, r, unknown_blocks) {
+        return Some((cx, cy));
+    }
+    let res = map.res_mm().max(1) as i64;
+    let mut best: Option<(i64, (i64, i64))> = None;
+    let mut fy = y0.div_euclid(res);
+    while fy * res < y0 + cell {
+        let mut fx = x0.div_euclid(res);
+        while fx * res < x0 + cell {
+            let (px, py) = (fx * res + res / 2, fy * res + res / 2);
+            let inside = px >= x0 && px < x0 + cell && py >= y0 && py < y0 + cell;
+            let d = (px - cx).pow(2) + (py - cy).pow(2);
+            if inside
+                && best.is_none_or(|(b, _)| d < b)
+                && seen(px, py)
+                && !disc_blocked(map, px, py, r, unknown_blocks)
+            {
+                best = Some((d, (px, py)));
+            }
+            fx += 1;
+        }
+        fy += 1;
+    }
+    best.map(|(_, p)| p)
+}
+
+/// World mm of a planning cell's anchor ([`coarse_anchor`]), or its centre
+/// when the robot fits nowhere in it.
+pub fn anchor_mm<const EV: usize>(
+    map: &EvidenceMap<EV>,
+    cell_mm: u32,
+    radius_mm: u32,
+    gx: i32,
+    gy: i32,
+) -> (i32, i32) {
+    let hmm = map.height() as i64 * map.res_mm() as i64;
+    match coarse_anchor(map, cell_mm, radius_mm, false, gx, gy) {
+        Some((x, y)) => (x as i32, (hmm - y) as i32),
+        None => coarse_centre_mm(map, cell_mm, gx, gy),
+    }
+}
+
+/// Sets every coarse cell's obstacle bit from the evidence map (free when
+/// the robot fits somewhere in the cell, see [`coarse_anchor`]), keeping
+/// the other layers (the planner's covered cells). Work: cells × up to
+/// ((cell/res)² + 1) × (2·radius/res + 3)².
+pub fn update_coarse<const EV: usize, const GW: usize>(
+    map: &EvidenceMap<EV>,
+    coarse: &mut Grid<GW>,
+    cell_mm: u32,
+    radius_mm: u32,
+    unknown_blocks: bool,
+) -> Result<(), GridError> {
+    for gy in 0..coarse.height() as i32 {
+        for gx in 0..coarse.width() as i32 {
+            let b = coarse_anchor(map, cell_mm, radius_mm, unknown_blocks, gx, gy).is_none();
+            coarse.set_obstacle(gx, gy, b)?;
+        }
+    }
+    Ok(())
+}
+
+/// Builds the fine configuration space on the evidence map's own cells:
+/// `fine` gets the map's size, and a cell is blocked when the robot
+/// (`radius_mm`, margin included) centred on it overlaps a blocking
+/// evidence cell. Work: blocking cells × (2·radius/res + 3)², by stamping
+/// each blocking cell's neighbourhood.
+pub fn build_fine<const EV: usize, const GW: usize>(
+    map: &EvidenceMap<EV>,
+    fine: &mut Grid<GW>,
+    radius_mm: u32,
+    unknown_blocks: bool,
+) -> Result<(), GridError> {
+    let (w, h) = (map.width() as i32, map.height() as i32);
+    fine.reset(w as u32, h as u32)?;
+    let res = map.res_mm().max(1) as i64;
+    let r = radius_mm as i64;
+    let reach = (r / res + 2) as i32;
+    let r2 = r * r;
+    // The map's edge is a wall: stamp a ring of virtual cells around it.
+    for cy in -1..=h {
+        for cx in -1..=w {
+            let inside = cx >= 0 && cy >= 0 && cx < w && cy < h;
+            if inside && !cell_blocks(map, cx, cy, unknown_blocks) {
+                continue;
+            }
+            for fy in (cy - reach).max(0)..=(cy + reach).min(h - 1) {
+                for fx in (cx - reach).max(0)..=(cx + reach).min(w - 1) {
+                    let (px, py) = (fx as i64 * res + res / 2, fy as i64 * res + res / 2);
+                    if square_dist2(px, py, cx as i64, cy as i64, res) < r2 {
+                        fine.set_obstacle(fx, fy, true)?;
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// World mm of the centre of fine cell (cx, cy).
+pub fn fine_centre_mm<const EV: usize>(map: &EvidenceMap<EV>, cx: i32, cy: i32) -> (i32, i32) {
+    coarse_centre_mm(map, map.res_mm(), cx, cy)
+}
+
+/// World mm of the centre of cell (gx, gy) of a grid of `cell_mm` cells
+/// over the evidence map (row 0 at the top).
+pub fn coarse_centre_mm<const EV: usize>(
+    map: &EvidenceMap<EV>,
+    cell_mm: u32,
+    gx: i32,
+    gy: i32,
+) -> (i32, i32) {
+    let c = cell_mm as i64;
+    let hmm = map.height() as i64 * map.res_mm() as i64;
+    (
+        (gx as i64 * c + c / 2) as i32,
+        (hmm - (gy as i64 * c + c / 2)) as i32,
+    )
+}
+
+/// The coarse cell of world point (x, y) mm (may be off the grid).
+pub fn coarse_of<const EV: usize>(
+    map: &EvidenceMap<EV>,
+    cell_mm: u32,
+    x_mm: i32,
+    y_mm: i32,
+) -> (i32, i32) {
+    let c = cell_mm.max(1) as i64;
+    let hmm = map.height() as i64 * map.res_mm() as i64;
+    (
+        (x_mm as i64).div_euclid(c).clamp(-1, 1 << 20) as i32,
+        (hmm - y_mm as i64).div_euclid(c).clamp(-1, 1 << 20) as i32,
+    )
+}

@@ -1,0 +1,360 @@
+//! Edge cleaning: a pass along every wall and piece of furniture, after the
+//! coverage planner's lanes. Ours, not from the papers: a grid coverage
+//! plan puts the robot's centre on planning-cell centres, so along any wall
+//! that does not fall on a cell boundary a strip up to one cell wide is
+//! never swept. Real vacuums close it with an edge pass; so do we.
+//!
+//! On the fine configuration space ([`crate::nav::cspace::build_fine`]), the
+//! boundary cells are the free cells reachable from the robot with a
+//! blocked 4-neighbour: the positions closest to an obstacle the robot may
+//! take. The pass walks them greedily, each step to an unvisited boundary
+//! 8-neighbour as close as possible to the current direction (so it runs
+//! along a contour), and when none is left it takes a multi-goal A*
+//! transit to the nearest unvisited boundary cells. Diagonal steps never cut
+//! a corner.
+//!
+//! Layers of the fine grid used: Obstacle (blocked positions; unreachable
+//! free cells are blocked too once the reachability fill ends), Known
+//! (reached by the fill), Covered (boundary cells visited).
+//!
+//! Work per [`EdgePass::step`] call is bounded: one forward and one
+//! backward sweep of the fill, or one move, or one scan of the grid for
+//! goals, or `budget` search nodes.
+
+use crate::grid::{Cell, Grid, Layer};
+use crate::search::{Algo, Progress, SearchError, SearchState};
+
+/// Goals per transit search.
+pub const EDGE_GOALS: usize = 16;
+
+/// What to do next.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum EdgeStep {
+    /// Drive to this fine cell; `edge` is true along a contour, false in a
+    /// transit between contours.
+    Move {
+        /// The cell.
+        to: Cell,
+        /// Along a contour.
+        edge: bool,
+    },
+    /// Work is under way (fill or search); call again.
+    Pending,
+    /// Every reachable boundary cell is visited.
+    Done,
+}
+
+/// Counters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct EdgeStats {
+    /// Reachable boundary cells visited.
+    pub visited: u32,
+    /// Transits between contours.
+    pub transits: u32,
+    /// Goals found unreachable.
+    pub unreachable: u32,
+    /// Fill sweeps.
+    pub sweeps: u32,
+    /// Free cells on the grid, and those reachable from the start (set
+    /// when the fill ends).
+    pub free: u32,
+    /// Reachable free cells.
+    pub reached: u32,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Phase {
+    Idle,
+    Fill,
+    Walk,
+    Search,
+    Transit,
+    Done,
+}
+
+/// The edge pass's state (small; the grid, search state and path buffer
+/// are the caller's).
+#[derive(Clone, Debug)]
+pub struct EdgePass {
+    phase: Phase,
+    last: Cell,
+    dir: (i32, i32),
+    path_len: usize,
+    path_pos: usize,
+    /// Counters.
+    pub stats: EdgeStats,
+}
+
+impl Default for EdgePass {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// True when (x, y) is a free cell with a blocked 4-neighbour.
+pub fn is_boundary<const GW: usize>(g: &Grid<GW>, x: i32, y: i32) -> bool {
+    g.is_free(x, y)
+        && [(1, 0), (-1, 0), (0, 1), (0, -1)]
+            .iter()
+            .any(|&(dx, dy)| g.is_blocked(x + dx, y + dy))
+}
+
+fn todo<const GW: usize>(g: &Grid<GW>, x: i32, y: i32) -> bool {
+    is_boundary(g, x, y) && !g.get(Layer::Covered, x, y)
+}
+
+impl EdgePass {
+    /// An idle pass.
+    pub const fn new() -> Self {
+        Self {
+            phase: Phase::Idle,
+            last: Cell::new(0, 0),
+            dir: (0, 0),
+            path_len: 0,
+            path_pos: 0,
+            stats: EdgeStats {
+                visited: 0,
+                transits: 0,
+                unreachable: 0,
+                sweeps: 0,
+                free: 0,
+                reached: 0,
+            },
+        }
+    }
+
+    /// Takes up the pass again after [`EdgeStep::Done`] (the caller
+    /// cleared the visited mark of cells it could not drive), from `at`.
+    pub fn reopen(&mut self, at: Cell) {
+        if self.phase == Phase::Done {
+            self.phase = Phase::Walk;
+            self.last = at;
+            self.dir = (0, 0);
+        }
+    }
+
+    /// The last cell emitted.
+    pub fn position(&self) -> Cell {
+        self.last
+    }
+
+    /// Abandons a search or transit under way (the caller used the shared
+    /// search state or path buffer, or moved the robot); the pass resumes
+    /// from the last cell it emitted.
+    pub fn interrupt(&mut self) {
+        if matches!(self.phase, Phase::Search | Phase::Transit) {
+            self.phase = Phase::Walk;
+            self.dir = (0, 0);
+        }
+    }
+
+    /// True once every reachable boundary cell is visited.
+    pub fn is_done(&self) -> bool {
+        self.phase == Phase::Done
+    }
+
+    /// Starts a pass from `from` (a free cell) on a freshly built fine
+    /// grid.
+    pub fn start<const GW: usize>(&mut self, fine: &mut Grid<GW>, from: Cell) -> bool {
+        let (x, y) = from.xy();
+        if fine.is_blocked(x, y) {
+            return false;
+        }
+        fine.clear_layer(Layer::Known);
+        fine.clear_layer(Layer::Covered);
+        let _ = fine.set(Layer::Known, x, y, true);
+        *self = Self::new();
+        self.last = from;
+        self.phase = Phase::Fill;
+        true
+    }
+
+    /// One forward and one backward sweep of the reachability fill;
+    /// true when something changed.
+    fn sweep<const GW: usize>(fine: &mut Grid<GW>) -> bool {
+        let (w, h) = (fine.width() as i32, fine.height() as i32);
+        let mut changed = false;
+        let mut visit = |fine: &mut Grid<GW>, x: i32, y: i32, back: i32| {
+            if fine.is_free(x, y)
+                && !fine.get(Layer::Known, x, y)
+                && (fine.get(Layer::Known, x - back, y) || fine.get(Layer::Known, x, y - back))
+            {
+                let _ = fine.set(Layer::Known, x, y, true);
+                changed = true;
+            }
+        };
+        for y in 0..h {
+            for x in 0..w {
+                visit(fine, x, y, 1);
+            }
+        }
+        for y in (0..h).rev() {
+            for x in (0..w).rev() {
+                visit(fine, x, y, -1);
+            }
+        }
+        changed
+    }
+
+    /// The next thing to do. `path` is the transit buffer (as long as the
+    /// longest transit, in fine cells); `search` any idle search state.
+    pub fn step<const N: usize, const NW: usize, const OPEN: usize, const GW: usize>(
+        &mut self,
+        fine: &mut Grid<GW>,
+        search: &mut SearchState<N, NW, OPEN>,
+        path: &mut [Cell],
+        budget: u32,
+    ) -> Result<EdgeStep, SearchError> {
+        loop {
+            match self.phase {
+                Phase::Idle => return Err(SearchError::NotRunning),
+                Phase::Done => return Ok(EdgeStep::Done),
+                Phase::Fill => {
+                    self.stats.sweeps += 1;
+                    if Self::sweep(fine) {
+                        return Ok(EdgeStep::Pending);
+                    }
+                    // Unreachable free cells are of no use: block them so the
+                    // boundary is the reachable one.
+                    let (w, h) = (fine.width() as i32, fine.height() as i32);
+                    let (mut free, mut reached) = (0u32, 0u32);
+                    for y in 0..h {
+                        for x in 0..w {
+                            if fine.is_free(x, y) {
+                                free += 1;
+                                if fine.get(Layer::Known, x, y) {
+                                    reached += 1;
+                                } else {
+                                    let _ = fine.set_obstacle(x, y, true);
+                                }
+                            }
+                        }
+                    }
+                    self.stats.free = free;
+                    self.stats.reached = reached;
+                    let (x, y) = self.last.xy();
+                    if todo(fine, x, y) {
+                        let _ = fine.set(Layer::Covered, x, y, true);
+                        self.stats.visited += 1;
+                    }
+                    self.phase = Phase::Walk;
+                }
+                Phase::Walk => {
+                    if let Some(next) = self.next_on_contour(fine) {
+                        let (x, y) = next.xy();
+                        let _ = fine.set(Layer::Covered, x, y, true);
+                        self.stats.visited += 1;
+                        self.dir = (x - self.last.x as i32, y - self.last.y as i32);
+                        self.last = next;
+                        return Ok(EdgeStep::Move {
+                            to: next,
+                            edge: true,
+                        });
+                    }
+                    self.phase = Phase::Search;
+                    // One grid scan for goals per call.
+                    let mut goals = [Cell::new(0, 0); EDGE_GOALS];
+                    let n = self.nearest_todo(fine, &mut goals);
+                    if n == 0 {
+                        self.phase = Phase::Done;
+                        return Ok(EdgeStep::Done);
+                    }
+                    search.begin(fine, self.last, goals.get(..n).unwrap_or(&[]), Algo::AStar)?;
+                    self.stats.transits += 1;
+                    return Ok(EdgeStep::Pending);
+                }
+                Phase::Search => match search.resume(fine, budget) {
+                    Ok(Progress::Pending { .. }) => return Ok(EdgeStep::Pending),
+                    Ok(Progress::Found(_)) => {
+                        self.path_len = search.write_path(path)?;
+                        self.path_pos = 1;
+                        self.phase = Phase::Transit;
+                    }
+                    Err(SearchError::NoPath) => {
+                        for &g in search.goals() {
+                            let _ = fine.set(Layer::Covered, g.x as i32, g.y as i32, true);
+                            self.stats.unreachable += 1;
+                        }
+                        self.phase = Phase::Walk;
+                    }
+                    Err(e) => return Err(e),
+                },
+                Phase::Transit => {
+                    let Some(&next) = path
+                        .get(self.path_pos)
+                        .filter(|_| self.path_pos < self.path_len)
+                    else {
+                        let (x, y) = self.last.xy();
+                        if todo(fine, x, y) {
+                            let _ = fine.set(Layer::Covered, x, y, true);
+                            self.stats.visited += 1;
+                        }
+                        self.dir = (0, 0);
+                        self.phase = Phase::Walk;
+                        continue;
+                    };
+                    self.path_pos += 1;
+                    self.last = next;
+                    return Ok(EdgeStep::Move {
+                        to: next,
+                        edge: false,
+                    });
+                }
+            }
+        }
+    }
+
+    /// The unvisited boundary neighbour closest to straight on (ties: the
+    /// left turn, then orthogonal moves); diagonals never cut a corner.
+    fn next_on_contour<const GW: usize>(&self, fine: &Grid<GW>) -> Option<Cell> {
+        // E, NE, N, NW, W, SW, S, SE: each 45° to the left of the one before.
+        const DIRS: [(i32, i32); 8] = crate::search::NEIGHBOURS;
+        let (x, y) = self.last.xy();
+        let cur = DIRS.iter().position(|&d| d == self.dir);
+        let mut best: Option<(i32, Cell)> = None;
+        for (k, &(dx, dy)) in DIRS.iter().enumerate() {
+            let (nx, ny) = (x + dx, y + dy);
+            if !todo(fine, nx, ny) {
+                continue;
+            }
+            if dx != 0 && dy != 0 && (fine.is_blocked(x + dx, y) || fine.is_blocked(x, y + dy)) {
+                continue;
+            }
+            let turn = match cur {
+                // 0 straight, then left before right at each angle.
+                Some(c) => {
+                    let d = (k as i32 - c as i32).rem_euclid(8);
+                    if d <= 4 {
+                        2 * d
+                    } else {
+                        2 * (8 - d) + 1
+                    }
+                }
+                None => i32::from(dx != 0 && dy != 0),
+            };
+            let Some(c) = Cell::from_xy(nx, ny) else {
+                continue;
+            };
+            if best.is_none_or(|(b, _)| turn < b) {
+                best = Some((turn, c));
+            }
+        }
+        best.map(|(_, c)| c)
+    }
+
+    /// The unvisited boundary cells nearest to the last position.
+    fn nearest_todo<const GW: usize>(&self, fine: &Grid<GW>, out: &mut [Cell]) -> usize {
+        let (w, h) = (fine.width() as i32, fine.height() as i32);
+        let (lx, ly) = (self.last.x as i64, self.last.y as i64);
+        let cells = (0..h)
+            .flat_map(|y| (0..w).map(move |x| (x, y)))
+            .filter(|&(x, y)| todo(fine, x, y))
+            .filter_map(|(x, y)| Cell::from_xy(x, y));
+        crate::math::select::smallest_k_of(cells, out, |c| {
+            let (dx, dy) = (c.x as i64 - lx, c.y as i64 - ly);
+            dx * dx + dy * dy
+        })
+    }
+}

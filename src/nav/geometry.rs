@@ -1,0 +1,149 @@
+//! Geometry the executive and the tests share: frames, distances, the
+//! corridor test, the disc sweep against the evidence map, and fine-grid
+//! helpers. All integer, world millimetres.
+
+use super::cspace;
+use super::dwa::PointMm;
+use crate::grid::{Cell, Grid};
+use crate::robot::lidar_map::{CellState, EvidenceMap};
+use crate::robot::odometry::Pose;
+
+/// World point into the robot frame (x forward, y left), mm.
+pub fn to_robot(pose: &Pose, (x, y): (i32, i32)) -> PointMm {
+    let (s, c) = crate::math::angle::sin_cos_q30(pose.theta_mrad as i64 * 1000);
+    let (dx, dy) = ((x - pose.x_mm) as i64, (y - pose.y_mm) as i64);
+    (
+        ((dx * c + dy * s) >> 30) as i32,
+        ((dy * c - dx * s) >> 30) as i32,
+    )
+}
+
+/// Straight-line distance, mm.
+pub fn dist_mm(a: (i32, i32), b: (i32, i32)) -> i64 {
+    let (dx, dy) = ((a.0 - b.0) as i64, (a.1 - b.1) as i64);
+    crate::math::cost::isqrt_u64((dx * dx + dy * dy) as u64) as i64
+}
+
+/// True when `q` lies within `reach` of segment a→b, beyond a's end.
+pub fn in_corridor(a: (i32, i32), b: (i32, i32), q: (i32, i32), reach: i64) -> bool {
+    let (ux, uy) = ((b.0 - a.0) as i64, (b.1 - a.1) as i64);
+    let (qx, qy) = ((q.0 - a.0) as i64, (q.1 - a.1) as i64);
+    let len2 = ux * ux + uy * uy;
+    let dot = qx * ux + qy * uy;
+    if dot <= 0 || len2 == 0 {
+        return false;
+    }
+    let (px, py) = if dot >= len2 {
+        (qx - ux, qy - uy)
+    } else {
+        // Perpendicular distance² = cross² / len².
+        let cross = qx * uy - qy * ux;
+        return (cross as i128 * cross as i128) < (reach * reach) as i128 * len2 as i128;
+    };
+    px * px + py * py < reach * reach
+}
+
+/// True when the map explains a lidar point: an occupied cell within two
+/// cells of it (100 mm: odometry drift over a room's length), or the point
+/// lies where the map knows nothing yet (new map, not an intruder). A point
+/// is unexplained only in space the map has seen free: a person, a moved
+/// chair.
+pub fn explained<const EV: usize>(map: &EvidenceMap<EV>, q: (i32, i32)) -> bool {
+    let (cx, cy) = map.cell_of(q.0, q.1);
+    map.state(cx, cy) == CellState::Unknown
+        || (-2..=2).any(|dy| (-2..=2).any(|dx| map.state(cx + dx, cy + dy) == CellState::Occupied))
+}
+
+/// True when a disc of `radius_mm` slides from `a` to `b` (world mm)
+/// without overlapping an occupied evidence cell (unknown counts as free),
+/// checked every quarter cell.
+pub fn segment_clear<const EV: usize>(
+    map: &EvidenceMap<EV>,
+    a: (i32, i32),
+    b: (i32, i32),
+    radius_mm: i64,
+) -> bool {
+    let res = map.res_mm().max(1) as i64;
+    let hmm = map.height() as i64 * res;
+    let len = dist_mm(a, b);
+    let steps = (len * 4 / res).max(1);
+    (0..=steps).all(|k| {
+        let x = a.0 as i64 + (b.0 - a.0) as i64 * k / steps;
+        let y = a.1 as i64 + (b.1 - a.1) as i64 * k / steps;
+        !cspace::disc_blocked(map, x, hmm - y, radius_mm, false)
+    })
+}
+
+/// The free fine cell nearest to world point `p` within `reach` cells.
+pub fn nearest_free_fine_within<const EV: usize, const GW: usize>(
+    map: &EvidenceMap<EV>,
+    fine: &Grid<GW>,
+    p: (i32, i32),
+    reach: i32,
+) -> Option<Cell> {
+    let (cx, cy) = map.cell_of(p.0, p.1);
+    let mut best: Option<(i64, Cell)> = None;
+    for dy in -reach..=reach {
+        for dx in -reach..=reach {
+            let (x, y) = (cx + dx, cy + dy);
+            if !fine.is_free(x, y) {
+                continue;
+            }
+            let d = dist_mm(cspace::fine_centre_mm(map, x, y), p);
+            if best.is_none_or(|(b, _)| d < b) {
+                best = Cell::from_xy(x, y).map(|c| (d, c));
+            }
+        }
+    }
+    best.map(|(_, c)| c)
+}
+
+/// Shortens a fine-grid path in place: from each kept point, the farthest
+/// of the points 40, 20, 10, 5 and 2 cells on that a disc of `radius_mm`
+/// reaches in a straight line ([`segment_clear`]), else the next point.
+/// Returns the new length. Work: at most 5 segment checks per kept point.
+pub fn prune_clear<const EV: usize>(
+    map: &EvidenceMap<EV>,
+    path: &mut [Cell],
+    radius_mm: i64,
+) -> usize {
+    let n = path.len();
+    if n <= 2 {
+        return n;
+    }
+    let centre = |c: Cell| cspace::fine_centre_mm(map, c.x as i32, c.y as i32);
+    let (mut k, mut out) = (0usize, 1usize);
+    while k + 1 < n {
+        let Some(&cur) = path.get(k) else { break };
+        let mut next = k + 1;
+        for hop in [40usize, 20, 10, 5, 2] {
+            let i = (k + hop).min(n - 1);
+            if i <= k + 1 {
+                continue;
+            }
+            if let Some(&c) = path.get(i) {
+                if segment_clear(map, centre(cur), centre(c), radius_mm) {
+                    next = i;
+                    break;
+                }
+            }
+        }
+        if let Some(&c) = path.get(next) {
+            if let Some(slot) = path.get_mut(out) {
+                *slot = c;
+            }
+        }
+        out += 1;
+        k = next;
+    }
+    out
+}
+
+/// The free fine cell nearest to world point `p` within 3 cells.
+pub fn nearest_free_fine<const EV: usize, const GW: usize>(
+    map: &EvidenceMap<EV>,
+    fine: &Grid<GW>,
+    p: (i32, i32),
+) -> Option<Cell> {
+    nearest_free_fine_within(map, fine, p, 3)
+}

@@ -1,0 +1,78 @@
+//! The safety guard: the last word on the linear speed, every control tick,
+//! from the latest lidar points alone (so it holds whatever the map or the
+//! odometry believe).
+//!
+//! A disc of radius r driving straight ahead hits a point (x, y) of the
+//! robot frame (x forward, y left) with |y| < r after advancing
+//! x − √(r² − y²). The smallest such distance over the points ahead is the
+//! free distance; the speed is capped so the robot can brake to a stop
+//! `reserve` short of it: v ≤ √(2·a·(free − reserve)). Backing up is
+//! checked the same way behind. Turning in place cannot hit anything (the
+//! body is a disc), so the turn rate is never capped.
+
+use crate::math::cost::isqrt_u64;
+
+/// Guard tuning.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct GuardParams {
+    /// Body radius plus the lateral margin of the swept corridor, mm.
+    pub radius_mm: i32,
+    /// Braking deceleration assumed, mm/s².
+    pub brake_mm_s2: i32,
+    /// Distance kept in hand when stopped, mm.
+    pub reserve_mm: i32,
+    /// Speeds below this are rounded to a stop, mm/s.
+    pub creep_mm_s: i32,
+    /// Extra corridor width and reserve for points the map does not
+    /// explain (they may move: a person walks 100 mm while the lidar comes
+    /// round), mm.
+    pub moving_margin_mm: i32,
+}
+
+/// Free distance (mm) along the robot's forward (`forward`) or backward
+/// axis before the body touches one of `points` (robot frame, mm);
+/// `i32::MAX` when nothing is in the way. Points already inside the
+/// corridor's swept front count as 0.
+///
+/// The distance to the *second* nearest point is used: a real obstacle
+/// returns many points, while a lone range-noise outlier (the LD06 is good
+/// to about ±10 mm) beside a wall the robot passes must not stop it. A
+/// single stray point can therefore be ignored; anything as thin as a
+/// chair leg still returns two or more points within a metre.
+pub fn free_distance_mm(
+    points: impl Iterator<Item = (i32, i32)>,
+    radius_mm: i32,
+    forward: bool,
+) -> i32 {
+    let r = radius_mm as i64;
+    let (mut first, mut second) = (i32::MAX as i64, i32::MAX as i64);
+    for (x, y) in points {
+        let (x, y) = (if forward { x as i64 } else { -(x as i64) }, y as i64);
+        if x <= 0 || y.abs() >= r {
+            continue;
+        }
+        let half_chord = isqrt_u64((r * r - y * y) as u64) as i64;
+        let d = (x - half_chord).max(0);
+        if d < first {
+            second = first;
+            first = d;
+        } else if d < second {
+            second = d;
+        }
+    }
+    second as i32
+}
+
+/// The linear speed allowed (same sign as `v_mm_s`, never larger in
+/// magnitude) given the free distance ahead in the direction of travel.
+pub fn limit_speed(p: &GuardParams, v_mm_s: i32, free_mm: i32) -> i32 {
+    if v_mm_s == 0 {
+        return 0;
+    }
+    let room = (free_mm as i64 - p.reserve_mm as i64).max(0);
+    let cap =
+        isqrt_u64((2 * p.brake_mm_s2.max(0) as i64 * room) as u64).min(i32::MAX as u64) as i32;
+    let cap = if cap < p.creep_mm_s { 0 } else { cap };
+    v_mm_s.clamp(-cap, cap)
+}

@@ -1,0 +1,328 @@
+//! Lidar mapping: scans are ray-cast into a fine evidence grid, and the
+//! planner's coarse grid is derived from it with the robot's footprint
+//! inflated.
+//!
+//! **Evidence.** Each cell holds a small signed counter: a beam passing
+//! through adds [`MISS`], a beam ending in it adds [`HIT`], clamped to
+//! ±[`LIMIT`]. A cell is occupied at ≥ [`OCCUPIED_AT`], free at ≤
+//! [`FREE_AT`], unknown in between. A well-seen free cell sits at −LIMIT,
+//! so one bad return (+3) leaves it free; a well-seen wall survives a
+//! missed return (−1) just as well.
+//!
+//! **Frames.** World coordinates are millimetres with x east and y north
+//! and the origin at the map's bottom-left corner; the robot's pose is in
+//! that frame (x forward, θ counter-clockwise). Cells are addressed like
+//! [`Grid`]: column from the left, row from the top.
+//!
+//! **Beams** are traced with an integer Bresenham walk from the lidar's
+//! cell to the hit cell. Returns of 0 (no echo) are skipped; returns beyond
+//! the maximum range clear the beam up to that range and mark nothing.
+
+use crate::grid::{Grid, GridError};
+use crate::math::angle::sin_cos_q30;
+use crate::robot::lidar::scan::Scan;
+use crate::robot::lidar::LidarFrame;
+use crate::robot::odometry::Pose;
+
+/// Evidence added by a beam ending in a cell.
+pub const HIT: i8 = 3;
+/// Evidence added by a beam passing through a cell.
+pub const MISS: i8 = -1;
+/// Counter limit.
+pub const LIMIT: i8 = 20;
+/// Occupied at or above.
+pub const OCCUPIED_AT: i8 = 2;
+/// Free at or below.
+pub const FREE_AT: i8 = -1;
+
+/// What the map says about a cell.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum CellState {
+    /// Not seen (or conflicting evidence).
+    Unknown,
+    /// Seen free.
+    Free,
+    /// Seen occupied.
+    Occupied,
+}
+
+/// Where the lidar sits on the robot and how its angles run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct LidarMount {
+    /// Forward offset from the robot's centre, mm.
+    pub offset_x_mm: i32,
+    /// Leftward offset, mm.
+    pub offset_y_mm: i32,
+    /// Bearing of the robot's forward axis in the lidar's own angles, mrad.
+    pub zero_mrad: i32,
+    /// True when the lidar's angles grow clockwise (LD06/LD19 do).
+    pub clockwise: bool,
+    /// Shortest range used, mm.
+    pub min_range_mm: u16,
+    /// Longest range used, mm.
+    pub max_range_mm: u16,
+}
+
+/// A fine evidence grid of up to `N` cells.
+#[derive(Clone)]
+pub struct EvidenceMap<const N: usize> {
+    width: u32,
+    height: u32,
+    res_mm: u32,
+    counts: [i8; N],
+}
+
+impl<const N: usize> Default for EvidenceMap<N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<const N: usize> EvidenceMap<N> {
+    /// An empty 0×0 map.
+    pub const fn new() -> Self {
+        Self {
+            width: 0,
+            height: 0,
+            res_mm: 1,
+            counts: [0; N],
+        }
+    }
+
+    /// Sizes the map to `width × height` cells of `res_mm`, all unknown.
+    pub fn reset(&mut self, width: u32, height: u32, res_mm: u32) -> Result<(), GridError> {
+        if width == 0 || height == 0 || res_mm == 0 {
+            return Err(GridError::Empty);
+        }
+        if width as u64 * height as u64 > N as u64 {
+            return Err(GridError::TooLarge {
+                width,
+                height,
+                capacity: N.min(u32::MAX as usize) as u32,
+            });
+        }
+        self.width = width;
+        self.height = height;
+        self.res_mm = res_mm;
+        self.counts.iter_mut().for_each(|c| *c = 0);
+        Ok(())
+    }
+
+    /// Width in cells.
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+    /// Height in cells.
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+    /// Cell side, mm.
+    pub fn res_mm(&self) -> u32 {
+        self.res_mm
+    }
+
+    fn index(&self, cx: i32, cy: i32) -> Option<usize> {
+        (cx >= 0 && cy >= 0 && (cx as u32) < self.width && (cy as u32) < self.height)
+            .then(|| cy as usize * self.width as usize + cx as usize)
+    }
+
+    /// The cell (column, row from the top) holding world point (x, y) mm.
+    pub fn cell_of(&self, x_mm: i32, y_mm: i32) -> (i32, i32) {
+        // In i64 and clamped to ±2^30: no overflow for any pose, and the
+        // differences `trace` takes stay in range.
+        let r = self.res_mm.max(1) as i64;
+        let cx = (x_mm as i64).div_euclid(r);
+        let cy = self.height as i64 - 1 - (y_mm as i64).div_euclid(r);
+        let clamp = |v: i64| v.clamp(-(1 << 30), 1 << 30) as i32;
+        (clamp(cx), clamp(cy))
+    }
+
+    /// The evidence counter of a cell (0 off the map).
+    pub fn evidence(&self, cx: i32, cy: i32) -> i8 {
+        self.index(cx, cy)
+            .and_then(|i| self.counts.get(i))
+            .copied()
+            .unwrap_or(0)
+    }
+
+    /// Sets a cell to a definite state (a prior map): ±`LIMIT` evidence,
+    /// or 0 for unknown. Off the map: ignored.
+    pub fn set_state(&mut self, cx: i32, cy: i32, st: CellState) {
+        if let Some(c) = self.index(cx, cy).and_then(|i| self.counts.get_mut(i)) {
+            *c = match st {
+                CellState::Occupied => LIMIT,
+                CellState::Free => -LIMIT,
+                CellState::Unknown => 0,
+            };
+        }
+    }
+
+    /// What the map says about a cell (off the map: unknown).
+    pub fn state(&self, cx: i32, cy: i32) -> CellState {
+        let e = self.evidence(cx, cy);
+        if e >= OCCUPIED_AT {
+            CellState::Occupied
+        } else if e <= FREE_AT {
+            CellState::Free
+        } else {
+            CellState::Unknown
+        }
+    }
+
+    fn add(&mut self, cx: i32, cy: i32, d: i8) {
+        if let Some(c) = self.index(cx, cy).and_then(|i| self.counts.get_mut(i)) {
+            *c = c.saturating_add(d).clamp(-LIMIT, LIMIT);
+        }
+    }
+
+    /// Ray-casts every point of a scan; returns the number of cells
+    /// updated.
+    pub fn integrate_scan<const F: usize>(&mut self, scan: &Scan<F>, mount: &LidarMount) -> u32 {
+        let mut updated = 0u32;
+        // A return lies on the obstacle's face; half a cell further along
+        // the beam is inside it, so the hit lands in the obstacle's cell
+        // rather than the free one before it.
+        let past_hit = self.res_mm as i64 / 2;
+        for (pose, frame) in scan.frames() {
+            beams(pose, mount, frame, past_hit, |ox, oy, hx, hy, hit| {
+                updated += self.trace(ox, oy, hx, hy, hit);
+            });
+        }
+        updated
+    }
+
+    /// Marks the cells from (x0, y0) to (x1, y1) (world mm): free along the
+    /// way, occupied at the end when `hit`.
+    pub fn trace(&mut self, x0: i32, y0: i32, x1: i32, y1: i32, hit: bool) -> u32 {
+        let (mut cx, mut cy) = self.cell_of(x0, y0);
+        let (ex, ey) = self.cell_of(x1, y1);
+        let dx = (ex - cx).abs();
+        let dy = -(ey - cy).abs();
+        let sx = if cx < ex { 1 } else { -1 };
+        let sy = if cy < ey { 1 } else { -1 };
+        let mut err = dx + dy;
+        let mut n = 0u32;
+        // Bounded: each iteration moves one cell closer.
+        for _ in 0..=(dx - dy) {
+            if (cx, cy) == (ex, ey) {
+                break;
+            }
+            self.add(cx, cy, MISS);
+            n += 1;
+            let e2 = 2 * err;
+            if e2 >= dy {
+                err += dy;
+                cx += sx;
+            }
+            if e2 <= dx {
+                err += dx;
+                cy += sy;
+            }
+        }
+        if hit {
+            self.add(ex, ey, HIT);
+        } else {
+            self.add(ex, ey, MISS);
+        }
+        n + 1
+    }
+
+    /// Derives the planner's grid (cells of `cell_mm`, the same world
+    /// origin): a planner cell is free when a robot of `robot_radius_mm`
+    /// centred on it overlaps no occupied evidence cell (and, when
+    /// `unknown_blocks`, no unknown one). The grid is resized to cover the
+    /// map.
+    pub fn derive_grid<const GW: usize>(
+        &self,
+        grid: &mut Grid<GW>,
+        cell_mm: u32,
+        robot_radius_mm: u32,
+        unknown_blocks: bool,
+    ) -> Result<(), GridError> {
+        let cell = cell_mm.max(1);
+        let (wmm, hmm) = (self.width * self.res_mm, self.height * self.res_mm);
+        let (gw, gh) = (wmm / cell, hmm / cell);
+        grid.reset(gw, gh)?;
+        let res = self.res_mm as i64;
+        let reach = robot_radius_mm as i64 + res / 2;
+        let r2 = reach * reach;
+        for gy in 0..gh as i32 {
+            for gx in 0..gw as i32 {
+                // Planner cell centre in world mm (row 0 at the top).
+                let px = (gx as i64 * cell as i64) + cell as i64 / 2;
+                let py = hmm as i64 - (gy as i64 * cell as i64 + cell as i64 / 2);
+                let (c0x, c0y) = self.cell_of((px - reach) as i32, (py + reach) as i32);
+                let (c1x, c1y) = self.cell_of((px + reach) as i32, (py - reach) as i32);
+                let mut blocked = false;
+                'scan: for cy in c0y..=c1y {
+                    for cx in c0x..=c1x {
+                        let ccx = cx as i64 * res + res / 2;
+                        let ccy = (self.height as i64 - 1 - cy as i64) * res + res / 2;
+                        if (ccx - px).pow(2) + (ccy - py).pow(2) > r2 {
+                            continue;
+                        }
+                        let st = if self.index(cx, cy).is_some() {
+                            self.state(cx, cy)
+                        } else {
+                            CellState::Occupied // the map's edge is a wall
+                        };
+                        if st == CellState::Occupied || (unknown_blocks && st == CellState::Unknown)
+                        {
+                            blocked = true;
+                            break 'scan;
+                        }
+                    }
+                }
+                if blocked {
+                    grid.set_obstacle(gx, gy, true)?;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Every usable beam of a frame taken at `pose`, in world mm: calls
+/// `f(origin_x, origin_y, end_x, end_y, hit)`. A return ends `past_hit_mm`
+/// beyond the measured range; a beam with no return within range ends at
+/// the longest range with `hit` false. Shared by the evidence map and the
+/// executive's obstacle points.
+pub fn beams(
+    pose: &Pose,
+    mount: &LidarMount,
+    frame: &LidarFrame,
+    past_hit_mm: i64,
+    mut f: impl FnMut(i32, i32, i32, i32, bool),
+) {
+    let th = pose.theta_mrad as i64 * 1000;
+    let (s, c) = sin_cos_q30(th);
+    let ox =
+        pose.x_mm as i64 + ((mount.offset_x_mm as i64 * c - mount.offset_y_mm as i64 * s) >> 30);
+    let oy =
+        pose.y_mm as i64 + ((mount.offset_x_mm as i64 * s + mount.offset_y_mm as i64 * c) >> 30);
+    for p in frame.points() {
+        if p.dist_mm == 0 || p.dist_mm < mount.min_range_mm {
+            continue;
+        }
+        let (range, hit) = if p.dist_mm > mount.max_range_mm {
+            (mount.max_range_mm as i64, false)
+        } else {
+            (p.dist_mm as i64, true)
+        };
+        // Bearing in the lidar's angles → robot frame → world.
+        let b_urad = p.angle_cdeg as i64 * 174_533 / 1000 - mount.zero_mrad as i64 * 1000;
+        let rel = if mount.clockwise { -b_urad } else { b_urad };
+        let (bs, bc) = sin_cos_q30(th + rel);
+        let reach = range + if hit { past_hit_mm } else { 0 };
+        let clamp = |v: i64| v.clamp(-(1 << 30), 1 << 30) as i32;
+        f(
+            clamp(ox),
+            clamp(oy),
+            clamp(ox + ((reach * bc) >> 30)),
+            clamp(oy + ((reach * bs) >> 30)),
+            hit,
+        );
+    }
+}

@@ -1,0 +1,9 @@
+//! The robot's own I/O: the hardware traits, odometry, wheel control, the
+//! lidar's wire protocol and the evidence map built from it. Uses `math`
+//! and `grid`.
+
+pub mod hal;
+pub mod lidar;
+pub mod lidar_map;
+pub mod odometry;
+pub mod wheel_control;

@@ -1,0 +1,15 @@
+//! Grid search: A*, OHA* and Theta* behind one resumable best-first loop,
+//! multi-goal, with path pruning. Uses `grid` and `math` only.
+//!
+//! The files point one way, toward the leaves: [`state`] (the state, its
+//! errors and statistics: a leaf), [`heuristics`], [`theta`] (Theta*'s
+//! parent update), [`open_list`] and [`prune`] serve [`run`], the loop.
+
+pub mod heuristics;
+pub mod open_list;
+pub mod prune;
+pub mod run;
+pub mod state;
+pub mod theta;
+
+pub use state::{Algo, Progress, SearchError, SearchState, SearchStats, MAX_GOALS, NEIGHBOURS};

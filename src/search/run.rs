@@ -1,0 +1,195 @@
+//! The shared best-first search machinery behind A*, OHA* and Theta*.
+//!
+//! One loop serves every algorithm; they differ only in the heuristic
+//! ([`super::heuristics`]) and, for Theta*, in the parent update
+//! ([`super::theta`]). The search is 8-connected with octile step costs
+//! and **no corner cutting**: a diagonal step needs both orthogonal
+//! neighbours free. It is multi-goal: it stops at the first goal it closes,
+//! with the heuristic taken as the minimum over the goals (ALGORITHMS.md §1,
+//! eq. 4).
+//!
+//! The search is **resumable**: [`SearchState::begin`] sets up a query and
+//! [`SearchState::resume`] expands at most a given number of nodes per call,
+//! so the firmware can bound the time of each control-loop tick.
+//! [`SearchState::search`] runs a query to completion.
+
+use super::heuristics;
+use super::open_list::Entry;
+use super::state::{
+    Algo, Progress, SearchError, SearchState, SearchStats, FOUND, IDLE, MAX_GOALS, NEIGHBOURS,
+    RUNNING,
+};
+use super::theta;
+use crate::grid::{Cell, Grid};
+use crate::math::cost::{COST_DIAGONAL, COST_PER_CELL};
+
+impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN> {
+    /// Runs a whole query: the path from `start` to the nearest-found of
+    /// `goals`. Read it with [`SearchState::write_path`].
+    pub fn search<const GW: usize>(
+        &mut self,
+        grid: &Grid<GW>,
+        start: Cell,
+        goals: &[Cell],
+        algo: Algo,
+    ) -> Result<SearchStats, SearchError> {
+        self.begin(grid, start, goals, algo)?;
+        match self.resume(grid, u32::MAX)? {
+            Progress::Found(s) => Ok(s),
+            // Unreachable with an unlimited budget, but never panic.
+            Progress::Pending { .. } => Err(SearchError::NotRunning),
+        }
+    }
+
+    /// Sets up a query without expanding anything.
+    pub fn begin<const GW: usize>(
+        &mut self,
+        grid: &Grid<GW>,
+        start: Cell,
+        goals: &[Cell],
+        algo: Algo,
+    ) -> Result<(), SearchError> {
+        self.phase = IDLE;
+        let cells = grid.cells();
+        if cells > N || cells > NW * 32 {
+            return Err(SearchError::MapTooLarge);
+        }
+        let (sx, sy) = start.xy();
+        let si = grid.index(sx, sy).ok_or(SearchError::StartOffMap)?;
+        if grid.blocked_at(si) {
+            return Err(SearchError::StartBlocked);
+        }
+        if goals.is_empty() {
+            return Err(SearchError::NoGoals);
+        }
+        if goals.len() > MAX_GOALS {
+            return Err(SearchError::TooManyGoals);
+        }
+        for (slot, &goal) in self.goals.iter_mut().zip(goals) {
+            let (gx, gy) = goal.xy();
+            let gi = grid.index(gx, gy).ok_or(SearchError::GoalOffMap)?;
+            if grid.blocked_at(gi) {
+                return Err(SearchError::GoalBlocked);
+            }
+            *slot = goal;
+        }
+        self.goal_count = goals.len() as u32;
+        self.start = start;
+        self.algo = algo;
+        self.width = grid.width();
+        self.height = grid.height();
+        self.nodes = 0;
+        self.seen.clear_prefix(cells);
+        self.closed.clear_prefix(cells);
+        self.open.clear();
+        self.set_node(si, 0, si as u32);
+        let h = self.heuristic(start);
+        self.open
+            .push(Entry {
+                f: h,
+                g: 0,
+                idx: si as u32,
+            })
+            .map_err(|_| SearchError::OpenListFull)?;
+        self.phase = RUNNING;
+        Ok(())
+    }
+
+    /// Expands at most `budget` nodes. The grid must be the one given to
+    /// `begin` (obstacles may have changed; its size may not).
+    pub fn resume<const GW: usize>(
+        &mut self,
+        grid: &Grid<GW>,
+        budget: u32,
+    ) -> Result<Progress, SearchError> {
+        match self.phase {
+            RUNNING => {}
+            FOUND => return Ok(Progress::Found(self.stats(self.found))),
+            _ => return Err(SearchError::NotRunning),
+        }
+        if grid.width() != self.width || grid.height() != self.height {
+            self.phase = IDLE;
+            return Err(SearchError::MapChanged);
+        }
+        let mut left = budget;
+        while left > 0 {
+            let Some(e) = self.open.pop() else {
+                self.phase = IDLE;
+                return Err(SearchError::NoPath);
+            };
+            let i = e.idx as usize;
+            if self.closed.get(i) {
+                continue; // stale duplicate (lazy deletion)
+            }
+            self.closed.put(i, true);
+            self.nodes = self.nodes.saturating_add(1);
+            left -= 1;
+            let cell = grid.cell_at(i);
+            if self.goals().contains(&cell) {
+                self.phase = FOUND;
+                self.found = e.idx;
+                return Ok(Progress::Found(self.stats(e.idx)));
+            }
+            if let Err(err) = self.expand(grid, i, cell) {
+                self.phase = IDLE;
+                return Err(err);
+            }
+        }
+        Ok(Progress::Pending {
+            nodes_expanded: self.nodes,
+        })
+    }
+
+    fn expand<const GW: usize>(
+        &mut self,
+        grid: &Grid<GW>,
+        i: usize,
+        cell: Cell,
+    ) -> Result<(), SearchError> {
+        let (x, y) = cell.xy();
+        let gs = self.g_at(i);
+        let w = self.width as usize;
+        for (k, &(dx, dy)) in NEIGHBOURS.iter().enumerate() {
+            let (nx, ny) = (x + dx, y + dy);
+            if !grid.contains(nx, ny) {
+                continue;
+            }
+            let ni = ny as usize * w + nx as usize;
+            if grid.blocked_at(ni) || self.closed.get(ni) {
+                continue;
+            }
+            let diagonal = k % 2 == 1;
+            if diagonal && (grid.is_blocked(x + dx, y) || grid.is_blocked(x, y + dy)) {
+                continue; // no corner cutting
+            }
+            let step = if diagonal {
+                COST_DIAGONAL
+            } else {
+                COST_PER_CELL
+            };
+            let (cand, par) = match self.algo {
+                Algo::Theta => theta::relax(self, grid, i, gs, (nx, ny), step),
+                Algo::AStar | Algo::Oha => (gs.saturating_add(step), i as u32),
+            };
+            if !self.seen.get(ni) || cand < self.g_at(ni) {
+                self.set_node(ni, cand, par);
+                let h = self.heuristic(Cell::new(nx as u16, ny as u16));
+                self.open
+                    .push(Entry {
+                        f: cand.saturating_add(h),
+                        g: cand,
+                        idx: ni as u32,
+                    })
+                    .map_err(|_| SearchError::OpenListFull)?;
+            }
+        }
+        Ok(())
+    }
+
+    fn heuristic(&self, s: Cell) -> u32 {
+        match self.algo {
+            Algo::AStar | Algo::Theta => heuristics::euclidean(s, self.goals()),
+            Algo::Oha => heuristics::oha(s, self.start, self.goals()),
+        }
+    }
+}

@@ -1,0 +1,260 @@
+//! The search state and its types: a leaf of the search layer. The loop
+//! that drives it is [`super::run`]; the heuristics [`super::heuristics`].
+//!
+//! Memory is fixed by three const generics: `N` cells of g-score and parent
+//! (4 + 4 bytes each), `NW` words of the closed and seen bitsets (N / 32,
+//! checked at compile time), and `OPEN` entries of the open list (12 bytes
+//! each). Nothing is allocated. Only the bitsets are cleared per query, so a
+//! query on a small map in a big state costs nothing extra.
+
+use super::open_list::OpenList;
+use crate::grid::Cell;
+use crate::math::bits::Bits;
+
+/// The most goals one multi-goal query takes.
+pub const MAX_GOALS: usize = 64;
+
+/// Which search to run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[repr(u8)]
+pub enum Algo {
+    /// A* with the Euclidean heuristic (the paper's "traditional A*").
+    AStar = 0,
+    /// OHA*: A* with the orientation-weighted heuristic (2 + cos θ)·h.
+    Oha,
+    /// Theta*: any-angle A* (parents may be any visible cell).
+    Theta,
+}
+
+/// Why a search failed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum SearchError {
+    /// The start is off the map.
+    StartOffMap,
+    /// The start is an obstacle.
+    StartBlocked,
+    /// A goal is off the map.
+    GoalOffMap,
+    /// A goal is an obstacle.
+    GoalBlocked,
+    /// No goals were given.
+    NoGoals,
+    /// More than [`MAX_GOALS`] goals were given.
+    TooManyGoals,
+    /// No goal is reachable from the start.
+    NoPath,
+    /// The open list filled up (raise its `OPEN` capacity).
+    OpenListFull,
+    /// The map has more cells than the search state's `N`.
+    MapTooLarge,
+    /// The map was resized while a resumable search was running.
+    MapChanged,
+    /// `resume` without a `begin`, or after the query ended.
+    NotRunning,
+    /// The output buffer is shorter than the path.
+    PathBufferTooSmall,
+}
+
+impl SearchError {
+    /// A short human-readable description.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            SearchError::StartOffMap => "start is off the map",
+            SearchError::StartBlocked => "start is an obstacle",
+            SearchError::GoalOffMap => "goal is off the map",
+            SearchError::GoalBlocked => "goal is an obstacle",
+            SearchError::NoGoals => "no goals given",
+            SearchError::TooManyGoals => "too many goals",
+            SearchError::NoPath => "no path between start and goal",
+            SearchError::OpenListFull => "open list capacity exceeded",
+            SearchError::MapTooLarge => "map exceeds the search capacity",
+            SearchError::MapChanged => "map was resized during the search",
+            SearchError::NotRunning => "no search is running",
+            SearchError::PathBufferTooSmall => "path buffer too small",
+        }
+    }
+}
+
+impl core::fmt::Display for SearchError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// What a finished search found.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct SearchStats {
+    /// The goal reached.
+    pub goal: Cell,
+    /// Path cost in cost units ([`crate::math::cost::COST_PER_CELL`] per cell).
+    pub cost: u32,
+    /// Nodes expanded (closed), summed over every `resume` call.
+    pub nodes_expanded: u32,
+    /// Cells on the path, start and goal included.
+    pub path_cells: u32,
+    /// The open list's peak size.
+    pub open_peak: u32,
+}
+
+/// Result of one bounded `resume` call.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Progress {
+    /// The search finished; the path can be read out.
+    Found(SearchStats),
+    /// The node budget ran out; call `resume` again.
+    Pending {
+        /// Nodes expanded so far.
+        nodes_expanded: u32,
+    },
+}
+
+pub(super) const IDLE: u8 = 0;
+pub(super) const RUNNING: u8 = 1;
+pub(super) const FOUND: u8 = 2;
+
+/// The 8 neighbour offsets: E, NE, N, NW, W, SW, S, SE (y grows downward,
+/// so "N" is −y), matching S1..S8 of ALGORITHMS.md.
+pub const NEIGHBOURS: [(i32, i32); 8] = [
+    (1, 0),
+    (1, -1),
+    (0, -1),
+    (-1, -1),
+    (-1, 0),
+    (-1, 1),
+    (0, 1),
+    (1, 1),
+];
+
+/// Search state for maps of up to `N` cells. `NW` must be `N / 32` rounded
+/// up (checked at compile time); `OPEN` is the open list's capacity.
+///
+/// Every field is a plain integer (or array of them) and the all-zero bit
+/// pattern is a valid idle state, equal to [`SearchState::new`]; a host
+/// may therefore allocate a large state directly on the heap, zeroed.
+pub struct SearchState<const N: usize, const NW: usize, const OPEN: usize> {
+    pub(super) g: [u32; N],
+    pub(super) parent: [u32; N],
+    pub(super) seen: Bits<NW>,
+    pub(super) closed: Bits<NW>,
+    pub(super) open: OpenList<OPEN>,
+    pub(super) goals: [Cell; MAX_GOALS],
+    pub(super) goal_count: u32,
+    pub(super) start: Cell,
+    pub(super) algo: Algo,
+    pub(super) phase: u8,
+    pub(super) found: u32,
+    pub(super) width: u32,
+    pub(super) height: u32,
+    pub(super) nodes: u32,
+}
+
+impl<const N: usize, const NW: usize, const OPEN: usize> Default for SearchState<N, NW, OPEN> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN> {
+    const WORDS_OK: () = assert!(NW * 32 >= N && NW <= N / 32 + 1, "NW must be words_for(N)");
+
+    /// A fresh state (usable in a `static`).
+    pub const fn new() -> Self {
+        #[allow(clippy::let_unit_value)]
+        let () = Self::WORDS_OK;
+        Self {
+            g: [0; N],
+            parent: [0; N],
+            seen: Bits::new(),
+            closed: Bits::new(),
+            open: OpenList::new(),
+            goals: [Cell::new(0, 0); MAX_GOALS],
+            goal_count: 0,
+            start: Cell::new(0, 0),
+            algo: Algo::AStar,
+            phase: IDLE,
+            found: 0,
+            width: 0,
+            height: 0,
+            nodes: 0,
+        }
+    }
+    /// The goals of the current query.
+    pub fn goals(&self) -> &[Cell] {
+        self.goals.get(..self.goal_count as usize).unwrap_or(&[])
+    }
+
+    #[inline]
+    pub(crate) fn g_at(&self, i: usize) -> u32 {
+        self.g.get(i).copied().unwrap_or(u32::MAX)
+    }
+
+    #[inline]
+    pub(crate) fn parent_at(&self, i: usize) -> usize {
+        self.parent.get(i).map(|&p| p as usize).unwrap_or(i)
+    }
+
+    pub(super) fn set_node(&mut self, i: usize, g: u32, parent: u32) {
+        if let (Some(gs), Some(ps)) = (self.g.get_mut(i), self.parent.get_mut(i)) {
+            *gs = g;
+            *ps = parent;
+            self.seen.put(i, true);
+        }
+    }
+
+    pub(crate) fn start_index(&self) -> usize {
+        self.start.y as usize * self.width as usize + self.start.x as usize
+    }
+
+    pub(super) fn stats(&self, goal_idx: u32) -> SearchStats {
+        let gi = goal_idx as usize;
+        let w = (self.width as usize).max(1);
+        SearchStats {
+            goal: Cell::new((gi % w) as u16, (gi / w) as u16),
+            cost: self.g_at(gi),
+            nodes_expanded: self.nodes,
+            path_cells: self.path_len(gi) as u32,
+            open_peak: self.open.peak() as u32,
+        }
+    }
+
+    pub(super) fn path_len(&self, goal_idx: usize) -> usize {
+        let s = self.start_index();
+        let mut i = goal_idx;
+        let mut n = 1usize;
+        while i != s && n <= N {
+            i = self.parent_at(i);
+            n += 1;
+        }
+        n
+    }
+
+    /// Writes the found path, start first, into `out`; returns its length.
+    pub fn write_path(&self, out: &mut [Cell]) -> Result<usize, SearchError> {
+        if self.phase != FOUND {
+            return Err(SearchError::NotRunning);
+        }
+        let gi = self.found as usize;
+        let n = self.path_len(gi);
+        if n > out.len() {
+            return Err(SearchError::PathBufferTooSmall);
+        }
+        let w = (self.width as usize).max(1);
+        let mut i = gi;
+        for k in (0..n).rev() {
+            if let Some(slot) = out.get_mut(k) {
+                *slot = Cell::new((i % w) as u16, (i / w) as u16);
+            }
+            i = self.parent_at(i);
+        }
+        Ok(n)
+    }
+
+    /// Nodes expanded by the current or last query.
+    pub fn nodes_expanded(&self) -> u32 {
+        self.nodes
+    }
+}

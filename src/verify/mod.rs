@@ -1,0 +1,5 @@
+//! Measuring and checking plans: the metrics defined once, and the
+//! independent coverage checker. Uses `math` and `grid` only.
+
+pub mod check;
+pub mod metrics;
