@@ -246,10 +246,16 @@ pub fn coarse_of<const EV: usize>(
     x_mm: i32,
     y_mm: i32,
 ) -> (i32, i32) {
-    let c = cell_mm.max(1) as i64;
     let hmm = map.height() as i64 * map.res_mm() as i64;
+    coarse_of_mm(hmm, cell_mm, x_mm, y_mm)
+}
+
+/// [`coarse_of`] for a map `height_mm` tall: what the real-time control
+/// path uses, without the map.
+pub fn coarse_of_mm(height_mm: i64, cell_mm: u32, x_mm: i32, y_mm: i32) -> (i32, i32) {
+    let c = cell_mm.max(1) as i64;
     (
         (x_mm as i64).div_euclid(c).clamp(-1, 1 << 20) as i32,
-        (hmm - y_mm as i64).div_euclid(c).clamp(-1, 1 << 20) as i32,
+        (height_mm - y_mm as i64).div_euclid(c).clamp(-1, 1 << 20) as i32,
     )
 }

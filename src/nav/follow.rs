@@ -8,6 +8,7 @@
 
 use crate::math::angle::atan2_urad;
 use crate::robot::odometry::Pose;
+use heapless::Deque;
 
 /// A straight sub-path, world mm.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -143,12 +144,11 @@ pub fn follow(p: &FollowParams, seg: &SubPath, pose: &Pose) -> FollowCmd {
 
 /// Merges waypoints into straight sub-paths: a waypoint continuing the last
 /// one's direction (and of the same kind) extends it; a turn starts a new
-/// sub-path. Holds at most `CAP` sub-paths (push returns false when full).
+/// sub-path. Holds at most `CAP` sub-paths in a `heapless::Deque` (push
+/// returns false when full).
 #[derive(Clone, Debug)]
 pub struct SubPaths<const CAP: usize> {
-    items: [(SubPath, bool); CAP],
-    head: usize,
-    len: usize,
+    items: Deque<(SubPath, bool), CAP>,
     last_end: Option<(i32, i32)>,
 }
 
@@ -162,49 +162,36 @@ impl<const CAP: usize> SubPaths<CAP> {
     /// An empty queue.
     pub const fn new() -> Self {
         Self {
-            items: [(
-                SubPath {
-                    from: (0, 0),
-                    to: (0, 0),
-                },
-                false,
-            ); CAP],
-            head: 0,
-            len: 0,
+            items: Deque::new(),
             last_end: None,
         }
     }
 
     /// Empties the queue and sets where the next sub-path starts.
     pub fn reset(&mut self, at: (i32, i32)) {
-        self.head = 0;
-        self.len = 0;
+        self.items.clear();
         self.last_end = Some(at);
     }
 
     /// Number of sub-paths queued.
     pub fn len(&self) -> usize {
-        self.len
+        self.items.len()
     }
 
     /// True when empty.
     pub fn is_empty(&self) -> bool {
-        self.len == 0
+        self.items.is_empty()
     }
 
     /// The current sub-path and whether it is a cover move.
     pub fn front(&self) -> Option<(SubPath, bool)> {
-        (self.len > 0)
-            .then(|| self.items.get(self.head).copied())
-            .flatten()
+        self.items.front().copied()
     }
 
     /// Replaces the current sub-path (rejoining it from elsewhere).
     pub fn replace_front(&mut self, seg: SubPath) {
-        if self.len > 0 {
-            if let Some(slot) = self.items.get_mut(self.head) {
-                slot.0 = seg;
-            }
+        if let Some(slot) = self.items.front_mut() {
+            slot.0 = seg;
         }
     }
 
@@ -215,15 +202,12 @@ impl<const CAP: usize> SubPaths<CAP> {
 
     /// The queued sub-paths, current first, with their kinds.
     pub fn iter(&self) -> impl Iterator<Item = (SubPath, bool)> + '_ {
-        (0..self.len).filter_map(move |k| self.items.get((self.head + k) % CAP.max(1)).copied())
+        self.items.iter().copied()
     }
 
     /// Drops the current sub-path.
     pub fn pop(&mut self) {
-        if self.len > 0 {
-            self.head = (self.head + 1) % CAP.max(1);
-            self.len -= 1;
-        }
+        self.items.pop_front();
     }
 
     /// Adds a waypoint (world mm); `cover` tags cleaning moves. A waypoint
@@ -237,9 +221,8 @@ impl<const CAP: usize> SubPaths<CAP> {
         if from == to {
             return true;
         }
-        if self.len >= 2 {
-            let k = (self.head + self.len - 1) % CAP.max(1);
-            if let Some((last, kind)) = self.items.get_mut(k) {
+        if self.items.len() >= 2 {
+            if let Some((last, kind)) = self.items.back_mut() {
                 let (ux, uy) = (
                     (last.to.0 - last.from.0) as i64,
                     (last.to.1 - last.from.1) as i64,
@@ -252,13 +235,8 @@ impl<const CAP: usize> SubPaths<CAP> {
                 }
             }
         }
-        if self.len >= CAP {
+        if self.items.push_back((SubPath { from, to }, cover)).is_err() {
             return false;
-        }
-        let k = (self.head + self.len) % CAP.max(1);
-        if let Some(slot) = self.items.get_mut(k) {
-            *slot = (SubPath { from, to }, cover);
-            self.len += 1;
         }
         self.last_end = Some(to);
         true

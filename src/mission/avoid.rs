@@ -1,0 +1,205 @@
+//! Avoidance (seed 002 §3.1): something the map does not explain in the
+//! corridor ahead starts it; the robot waits, then DWA ([`crate::nav::dwa`])
+//! steers toward the end of the current straight sub-path, and it rejoins
+//! once the way is clear. Given up after `avoid_timeout_us`.
+
+use super::config::MAP_POINTS;
+use super::{Activity, Exec, Mission, RING};
+use crate::nav::cspace;
+use crate::nav::dwa::{self, DwaResult, MAX_OBSTACLES};
+use crate::nav::follow::SubPath;
+use crate::nav::geometry::{dist_mm, in_corridor, segment_clear, to_robot};
+use crate::nav::guard::free_distance_mm;
+use crate::robot::lidar_map::CellState;
+use crate::robot::odometry::Pose;
+
+impl<
+        const N: usize,
+        const NW: usize,
+        const OPEN: usize,
+        const LCAP: usize,
+        const PCAP: usize,
+        const EV: usize,
+    > Exec<'_, '_, '_, N, NW, OPEN, LCAP, PCAP, EV>
+{
+    /// Starts and ends avoidance; runs DWA while avoiding.
+    pub(super) fn watch_corridor(&mut self, now_us: u64, pose: &Pose) {
+        let m = &mut *self.m;
+        let Some((seg, _)) = m.queue.front() else {
+            m.activity = Activity::Follow;
+            return;
+        };
+        let here = (pose.x_mm, pose.y_mm);
+        let (reach, total, ahead) = m.corridor(here, seg.to);
+        match m.activity {
+            Activity::BackOff { .. } => {}
+            Activity::Follow => {
+                let unexplained = m
+                    .points_where(false)
+                    .filter(|&q| in_corridor(here, ahead, q, reach))
+                    .take(2)
+                    .count();
+                if unexplained >= 2 {
+                    m.activity = Activity::Avoid;
+                    m.avoid_since_us = now_us;
+                    m.counters.avoidance_events += 1;
+                    m.dwa_cmd = (0, 0);
+                }
+            }
+            Activity::Avoid => {
+                if total < 60 {
+                    m.queue.pop();
+                    m.activity = Activity::Follow;
+                    m.subpath_since_us = now_us;
+                    return;
+                }
+                // Rejoin once nothing unmapped lies in the corridor and the
+                // guard would let the robot drive 250 mm straight toward the
+                // end (the guard's own rule, so it does not hold it again).
+                let unexplained = m
+                    .points_where(false)
+                    .any(|q| in_corridor(here, ahead, q, reach));
+                let free = m.free_toward(here, seg.to);
+                if !unexplained && free >= 250.min(total) {
+                    m.activity = Activity::Follow;
+                    m.subpath_since_us = now_us;
+                    // Rejoin straight when the map allows it, else by a
+                    // fresh path from here.
+                    let r = (m.cfg.radius_mm + m.cfg.margin_mm / 2) as i64;
+                    if segment_clear(self.p.map, here, seg.to, r) {
+                        m.queue.replace_front(SubPath {
+                            from: here,
+                            to: seg.to,
+                        });
+                    } else {
+                        self.replan_leg(now_us, pose);
+                    }
+                    return;
+                }
+                let waited = now_us.saturating_sub(m.avoid_since_us);
+                if waited > m.cfg.avoid_timeout_us {
+                    m.activity = Activity::Follow;
+                    self.replan_leg(now_us, pose);
+                    return;
+                }
+                if waited < m.cfg.avoid_wait_us {
+                    // First wait: people usually walk on.
+                    m.dwa_cmd = (0, 0);
+                    return;
+                }
+                self.dwa_step(pose, seg.to);
+            }
+        }
+    }
+
+    pub(super) fn dwa_step(&mut self, pose: &Pose, goal_world: (i32, i32)) {
+        let m = &mut *self.m;
+        let mut all = [(0i32, 0i32); RING + MAP_POINTS];
+        let mut n = 0usize;
+        // Unmapped points (maybe people) are moved closer by the guard's
+        // extra margin, so DWA keeps the berth the guard will insist on.
+        let extra = m.cfg.guard.moving_margin_mm as i64;
+        for &(x, y, mapped) in m.lidar.ring.as_slice() {
+            let (rx, ry) = to_robot(pose, (x, y));
+            let q = if mapped {
+                (rx, ry)
+            } else {
+                let d = crate::math::cost::isqrt_u64(
+                    (rx as i64 * rx as i64 + ry as i64 * ry as i64) as u64,
+                )
+                .max(1) as i64;
+                let k = (d - extra).max(0);
+                ((rx as i64 * k / d) as i32, (ry as i64 * k / d) as i32)
+            };
+            if let Some(s) = all.get_mut(n) {
+                *s = q;
+                n += 1;
+            }
+        }
+        // Nearby grid obstacles (known mode: the prior map's walls).
+        let map = &*self.p.map;
+        let (cx, cy) = map.cell_of(pose.x_mm, pose.y_mm);
+        let k = (600 / map.res_mm().max(1)) as i32;
+        'grid: for y in cy - k..=cy + k {
+            for x in cx - k..=cx + k {
+                if map.state(x, y) == CellState::Occupied {
+                    let c = cspace::fine_centre_mm(map, x, y);
+                    match all.get_mut(n) {
+                        Some(s) if n < RING + MAP_POINTS => {
+                            *s = to_robot(pose, c);
+                            n += 1;
+                        }
+                        _ => break 'grid,
+                    }
+                }
+            }
+        }
+        let mut obs = [(0i32, 0i32); MAX_OBSTACLES];
+        let k = dwa::nearest_obstacles(all.get(..n).unwrap_or(&[]), &mut obs);
+        let goal = to_robot(pose, goal_world);
+        m.dwa_cmd = match dwa::plan(
+            &m.cfg.dwa,
+            m.cmd.0.max(0),
+            m.cmd.1,
+            goal,
+            obs.get(..k).unwrap_or(&[]),
+        ) {
+            DwaResult::Command {
+                v_mm_s, w_mrad_s, ..
+            } => (v_mm_s, w_mrad_s),
+            DwaResult::NoAdmissible => {
+                m.counters.dwa_no_admissible += 1;
+                // Turn in place toward the goal (a disc cannot hit anything
+                // turning in place).
+                let bearing = crate::math::angle::atan2_mrad(goal.1, goal.0);
+                (0, if bearing >= 0 { 500 } else { -500 })
+            }
+        };
+    }
+}
+
+impl Mission {
+    /// The corridor checked ahead of the robot toward `to`: its half-width
+    /// (mm), the distance to `to` (mm), and where it ends (at most
+    /// `lookahead_mm` on).
+    pub(super) fn corridor(&self, here: (i32, i32), to: (i32, i32)) -> (i64, i64, (i32, i32)) {
+        let reach = (self.cfg.radius_mm + self.cfg.corridor_mm) as i64;
+        let total = dist_mm(here, to);
+        let look = self.cfg.lookahead_mm as i64;
+        let ahead = if total > look && total > 0 {
+            (
+                here.0 + ((to.0 - here.0) as i64 * look / total) as i32,
+                here.1 + ((to.1 - here.1) as i64 * look / total) as i32,
+            )
+        } else {
+            to
+        };
+        (reach, total, ahead)
+    }
+
+    /// How far the guard would let the robot drive from `here` straight
+    /// toward `target` (after its reserves), mm.
+    pub(super) fn free_toward(&self, here: (i32, i32), target: (i32, i32)) -> i64 {
+        let toward =
+            crate::math::angle::atan2_urad((target.1 - here.1) as i64, (target.0 - here.0) as i64);
+        let facing = Pose {
+            x_mm: here.0,
+            y_mm: here.1,
+            theta_mrad: (toward / 1000) as i32,
+        };
+        let g = self.cfg.guard;
+        let fs = free_distance_mm(
+            self.points_where(true).map(|q| to_robot(&facing, q)),
+            g.radius_mm,
+            true,
+        ) as i64
+            - g.reserve_mm as i64;
+        let fm = free_distance_mm(
+            self.points_where(false).map(|q| to_robot(&facing, q)),
+            g.radius_mm + g.moving_margin_mm,
+            true,
+        ) as i64
+            - (g.reserve_mm + g.moving_margin_mm) as i64;
+        fs.min(fm)
+    }
+}

@@ -1,0 +1,298 @@
+//! The executive's vocabulary: map modes, faults, states, the motor
+//! command, every tunable ([`MissionConfig`]) and the counters. A leaf of
+//! the mission layer.
+
+use crate::coverage::PlannerKind;
+use crate::nav::dwa::{self, DwaParams};
+use crate::nav::follow::FollowParams;
+use crate::nav::guard::GuardParams;
+use crate::robot::lidar_map::LidarMount;
+use crate::robot::odometry::DriveGeometry;
+use crate::robot::wheel_control::WheelGains;
+
+/// Lidar hit points kept (world mm): a little over one revolution.
+pub const RING: usize = 512;
+/// Frames per lidar revolution held by the scan assembler.
+pub const SCAN_FRAMES: usize = 48;
+/// Straight sub-paths queued ahead of the robot.
+pub const QUEUE: usize = 48;
+/// Grid obstacles near the robot offered to DWA besides the lidar points.
+pub(super) const MAP_POINTS: usize = 64;
+/// Plans of the way home tried (one per planning step, 10 Hz) before the
+/// mission fails with [`Fault::NoWayHome`]: 30 s for whoever blocks the
+/// way to move on.
+pub const HOME_TRIES: u16 = 300;
+/// Sub-paths given up and put back for a later pass, at most, per mission
+/// (a spot a person keeps blocking is not retried for ever).
+pub const MAX_RETRIES: u32 = 400;
+
+/// Where the map comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum MapMode {
+    /// A prior map is given (seed 002's setting).
+    Known,
+    /// The map starts empty and grows from the lidar (seed 001's setting).
+    Unknown,
+}
+
+/// Why a mission failed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Fault {
+    /// No two complete lidar revolutions within the self-test's 3 s.
+    SelfTestLidar,
+    /// A wheel did not turn in the self-test.
+    SelfTestWheels,
+    /// The robot does not start in a place it can clean from.
+    StartBlocked,
+    /// A map, list or path capacity was exceeded.
+    Capacity,
+    /// The lidar stayed silent past `lidar_lost_us`.
+    LidarLost,
+    /// No path back to the start.
+    NoWayHome,
+}
+
+impl Fault {
+    /// A short human-readable description.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Fault::SelfTestLidar => "self-test: no lidar revolutions",
+            Fault::SelfTestWheels => "self-test: a wheel does not turn",
+            Fault::StartBlocked => "the start is blocked",
+            Fault::Capacity => "map, list or path capacity exceeded",
+            Fault::LidarLost => "lidar lost",
+            Fault::NoWayHome => "no path back to the start",
+        }
+    }
+}
+
+/// What the executive is doing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum State {
+    /// Checking lidar and wheels.
+    SelfTest,
+    /// Cleaning lanes.
+    Cover,
+    /// Driving to the next uncleaned place (backtracking).
+    Transit,
+    /// Steering around something the map did not have.
+    Avoid,
+    /// Backing off after a stall.
+    BackOff,
+    /// Cleaning along walls and furniture.
+    Edge,
+    /// Driving back to the start.
+    Return,
+    /// Motors stopped: the lidar is silent.
+    LidarSilent,
+    /// Mission complete, back at the start.
+    Done,
+    /// Mission aborted.
+    Failed(Fault),
+}
+
+/// Motor output for this tick.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum MotorCmd {
+    /// Duties, permille.
+    Duty(i16, i16),
+    /// Brake both motors.
+    Brake,
+}
+
+/// Everything tunable, units in the names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct MissionConfig {
+    /// Map mode.
+    pub mode: MapMode,
+    /// Coverage planner.
+    pub kind: PlannerKind,
+    /// Wheels and encoders.
+    pub geometry: DriveGeometry,
+    /// Wheel speed control.
+    pub gains: WheelGains,
+    /// Body radius, mm.
+    pub radius_mm: i32,
+    /// Clearance kept from mapped obstacles beyond the radius, mm.
+    pub margin_mm: i32,
+    /// Planning cell side, mm (about the cleaning width).
+    pub plan_cell_mm: u32,
+    /// Path follower.
+    pub follow: FollowParams,
+    /// DWA.
+    pub dwa: DwaParams,
+    /// Guard.
+    pub guard: GuardParams,
+    /// The lidar's mounting.
+    pub mount: LidarMount,
+    /// Lidar silence that stops the motors, µs.
+    pub lidar_timeout_us: u64,
+    /// Lidar silence that fails the mission, µs.
+    pub lidar_lost_us: u64,
+    /// Planning period, µs (10 Hz).
+    pub plan_period_us: u64,
+    /// Search nodes per planning step.
+    pub node_budget: u32,
+    /// Lateral distance (mm, beyond the radius) at which an unexplained
+    /// point in the corridor ahead starts an avoidance.
+    pub corridor_mm: i32,
+    /// Corridor length checked ahead, mm.
+    pub lookahead_mm: i32,
+    /// Avoidance given up after, µs.
+    pub avoid_timeout_us: u64,
+    /// How long an avoidance first waits for the way to clear, µs.
+    pub avoid_wait_us: u64,
+    /// A sub-path not finished in this long is dropped, µs.
+    pub subpath_timeout_us: u64,
+    /// Stall retries before a sub-path is dropped.
+    pub stall_retries: u8,
+    /// Known mode: keep ray-casting the lidar into the prior map, so what
+    /// the robot sees (in its own, possibly drifting, frame) is planned
+    /// around. Off: the prior map is fixed.
+    pub map_known_updates: bool,
+    /// Cleaning time before the robot heads home whatever is left (the
+    /// battery's share for cleaning), µs.
+    pub battery_us: u64,
+    /// Closer than this to two lidar points (beyond the radius), the robot
+    /// stops turning and backs straight away from them, mm.
+    pub escape_mm: i32,
+}
+
+impl MissionConfig {
+    /// Defaults for a 330 mm robot cleaning at 0.3 m/s with an LD06.
+    pub const fn new(
+        mode: MapMode,
+        geometry: DriveGeometry,
+        gains: WheelGains,
+        mount: LidarMount,
+    ) -> Self {
+        let radius_mm = 165;
+        let mut dwa = dwa::DEFAULT_PARAMS;
+        dwa.radius_mm = radius_mm + 15;
+        dwa.v_max_mm_s = 300;
+        Self {
+            mode,
+            kind: PlannerKind::BOha,
+            geometry,
+            gains,
+            radius_mm,
+            margin_mm: 10,
+            plan_cell_mm: 300,
+            // Tighter than the drive defaults: a cleaning run keeps 10 mm
+            // from walls, so sub-paths end within 10 mm and the robot turns
+            // to within 0.1 rad before it drives.
+            follow: FollowParams {
+                arrive_mm: 10,
+                turn_in_place_mrad: 100,
+                min_mm_s: 30,
+                ..crate::nav::follow::DEFAULT_FOLLOW
+            },
+            dwa,
+            guard: GuardParams {
+                radius_mm: radius_mm + 2,
+                brake_mm_s2: 500,
+                reserve_mm: 20,
+                creep_mm_s: 40,
+                moving_margin_mm: 60,
+            },
+            mount,
+            lidar_timeout_us: 200_000,
+            lidar_lost_us: 10_000_000,
+            plan_period_us: 100_000,
+            node_budget: 4000,
+            corridor_mm: 5,
+            lookahead_mm: 800,
+            avoid_timeout_us: 12_000_000,
+            avoid_wait_us: 2_000_000,
+            subpath_timeout_us: 30_000_000,
+            stall_retries: 2,
+            escape_mm: 0,
+            battery_us: 75 * 60 * 1_000_000,
+            map_known_updates: true,
+        }
+    }
+
+    /// Margins for a lidar whose range noise is `noise_mm` (1 σ): the
+    /// clearance kept from mapped walls grows by 2 σ and the guard's
+    /// corridor by 1.5 σ, so passing a wall does not look like driving
+    /// into it and a noisy wall is not grazed. 0 for an ideal sensor.
+    pub const fn with_lidar_noise(mut self, noise_mm: i32) -> Self {
+        self.margin_mm = 10 + 2 * noise_mm;
+        self.guard.radius_mm = self.radius_mm + 2 + noise_mm * 3 / 2;
+        self.escape_mm = 2 + noise_mm / 2;
+        self.dwa.radius_mm = self.radius_mm + 15 + noise_mm;
+        self
+    }
+}
+
+/// Event counters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Counters {
+    /// Avoidances started.
+    pub avoidance_events: u32,
+    /// DWA cycles with no admissible motion.
+    pub dwa_no_admissible: u32,
+    /// Lidar silences that stopped the motors.
+    pub lidar_silences: u32,
+    /// Wheel stalls.
+    pub stalls: u32,
+    /// Planning cells marked blocked after repeated stalls.
+    pub blocked_cells: u32,
+    /// Sub-paths given up (timeouts, avoidance timeouts, stalls).
+    pub skipped: u32,
+    /// Waypoint segments re-routed on the fine map.
+    pub detours: u32,
+    /// Cover or edge sub-paths given up and put back for a later pass.
+    pub retried: u32,
+    /// Legs re-planned from where the robot stood after the guard held it
+    /// (a wall the plan did not know of, or odometry drift).
+    pub replans: u32,
+    /// Missions cut short by the battery budget.
+    pub battery_returns: u32,
+    /// Times the planner's given-up goals were tried again.
+    pub abandoned_retries: u32,
+    /// Control ticks spent backing away from something at touching
+    /// distance.
+    pub escapes: u32,
+    /// Control ticks on which the guard lowered the speed.
+    pub guard_ticks: u32,
+    /// Lidar revolutions.
+    pub scans: u32,
+    /// Planning steps run.
+    pub plan_steps: u32,
+    /// Control-to-planning notes dropped because the hand-off was full.
+    pub handoff_dropped: u32,
+    /// Events dropped because the caller did not drain the queue.
+    pub events_dropped: u32,
+}
+
+impl Counters {
+    /// All zero (usable in a `const fn`).
+    pub const fn new() -> Self {
+        Self {
+            avoidance_events: 0,
+            dwa_no_admissible: 0,
+            lidar_silences: 0,
+            stalls: 0,
+            blocked_cells: 0,
+            skipped: 0,
+            detours: 0,
+            retried: 0,
+            replans: 0,
+            battery_returns: 0,
+            abandoned_retries: 0,
+            escapes: 0,
+            guard_ticks: 0,
+            scans: 0,
+            plan_steps: 0,
+            handoff_dropped: 0,
+            events_dropped: 0,
+        }
+    }
+}

@@ -1,0 +1,306 @@
+//! The real-time path, every control period (100 Hz): odometry and wheel
+//! speeds, lidar silence, the sub-path follower, the escape from touching
+//! distance, the guard, wheel control and stall handling. It touches no
+//! big buffer: what the planner's buffers must learn of goes into the
+//! hand-off ([`super::handoff`]).
+//!
+//! Work per call: one odometry update, one pass over the lidar ring for
+//! the escape check and, when moving, four guard passes over it (two
+//! headings × mapped and unmapped points), one follower step, one wheel
+//! PI step.
+
+use super::handoff::Note;
+use super::{Activity, Capacity, EventKind, Fault, Mission, MotorCmd, Phase};
+use crate::nav::cspace;
+use crate::nav::follow::{follow, FollowCmd};
+use crate::nav::geometry::to_robot;
+use crate::nav::guard::{free_distance_mm, limit_speed, GuardParams};
+use crate::robot::odometry::Pose;
+
+/// What the sensing half measured, for the acting half.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Sensed {
+    pose: Pose,
+    /// Encoder ticks this period.
+    d: [i32; 2],
+    /// Wheel speeds over the last two periods, mm/s.
+    meas: [i32; 2],
+    dt_us: u64,
+}
+
+impl Mission {
+    /// The sensing half: odometry, speeds, lidar silence, the swept cell.
+    /// `Err` is the command when the robot must not move this period.
+    pub(super) fn sense(&mut self, now_us: u64, enc: (u16, u16)) -> Result<Sensed, MotorCmd> {
+        self.drive.sensed_ok = false;
+        let pose = self.drive.odom.update(enc.0, enc.1);
+        let Some(last) = self.drive.last_tick_us.replace(now_us) else {
+            self.first_tick(now_us, enc);
+            return Err(MotorCmd::Brake);
+        };
+        let dt_us = now_us.saturating_sub(last).max(1);
+        let (d, meas) = self.wheel_speeds(enc, dt_us);
+        if matches!(self.phase, Phase::Done | Phase::Failed(_) | Phase::Idle) {
+            self.cmd = (0, 0);
+            return Err(MotorCmd::Brake);
+        }
+        if self.lidar_silent(now_us) {
+            return Err(MotorCmd::Brake);
+        }
+        if self.halted_since.take().is_some() {
+            self.subpath_since_us = now_us;
+        }
+        if self.phase == Phase::Cover {
+            let c = &self.cfg;
+            let cell =
+                cspace::coarse_of_mm(self.drive.map_h_mm, c.plan_cell_mm, pose.x_mm, pose.y_mm);
+            self.hand_off(now_us, Note::Swept(cell));
+        }
+        self.drive.sensed_ok = true;
+        Ok(Sensed {
+            pose,
+            d,
+            meas,
+            dt_us,
+        })
+    }
+
+    fn first_tick(&mut self, now_us: u64, enc: (u16, u16)) {
+        self.drive.enc_last = enc;
+        self.plan_due_us = now_us;
+        self.lidar.last_frame_us = now_us;
+        if let Phase::SelfTestScan { since_us } = &mut self.phase {
+            *since_us = now_us;
+        }
+        self.started_us = now_us;
+    }
+
+    /// Encoder ticks this period and speeds over the last two, mm/s.
+    fn wheel_speeds(&mut self, enc: (u16, u16), dt_us: u64) -> ([i32; 2], [i32; 2]) {
+        let dr = &mut self.drive;
+        let d = [
+            enc.0.wrapping_sub(dr.enc_last.0) as i16 as i32,
+            enc.1.wrapping_sub(dr.enc_last.1) as i16 as i32,
+        ];
+        dr.enc_last = enc;
+        let span = (dt_us + dr.prev_dt_us).max(1) as i64;
+        let upt = self.cfg.geometry.um_per_tick();
+        let meas = [0usize, 1].map(|i| {
+            let p = dr.prev_delta.get(i).copied().unwrap_or(0);
+            let di = d.get(i).copied().unwrap_or(0);
+            ((di + p) as i64 * upt * 1000 / span) as i32
+        });
+        dr.prev_delta = d;
+        dr.prev_dt_us = dt_us;
+        (d, meas)
+    }
+
+    /// Lidar silence (after the self-test's own wait): brake, and fail
+    /// after `lidar_lost_us`. True while silent.
+    fn lidar_silent(&mut self, now_us: u64) -> bool {
+        let past_selftest = !matches!(self.phase, Phase::SelfTestScan { .. });
+        let quiet = now_us.saturating_sub(self.lidar.last_frame_us);
+        if !past_selftest || quiet <= self.cfg.lidar_timeout_us {
+            return false;
+        }
+        let counters = &mut self.counters;
+        let since = *self.halted_since.get_or_insert_with(|| {
+            counters.lidar_silences += 1;
+            now_us
+        });
+        if now_us.saturating_sub(since) > self.cfg.lidar_lost_us {
+            self.phase = Phase::Failed(Fault::LidarLost);
+        }
+        self.cmd = (0, 0);
+        self.drive.wheels.clear_fault();
+        true
+    }
+
+    /// Adds a note for the planning step (dropped and reported when full).
+    fn hand_off(&mut self, now_us: u64, n: Note) {
+        if !self.handoff.push(n) {
+            self.counters.handoff_dropped += 1;
+            self.events
+                .push(now_us, EventKind::Capacity(Capacity::Handoff));
+        }
+    }
+
+    /// The acting half: follower, escape, guard, wheel control.
+    pub(super) fn act(&mut self, now_us: u64, s: Sensed) -> MotorCmd {
+        let (v, w) = self.motion(now_us, &s.pose);
+        let (v, w) = self.escape(&s.pose, v, w);
+        let v = self.guard(now_us, &s.pose, v, w);
+        let (dl, dr) = self.drive.wheels.step(
+            v,
+            w,
+            s.meas[0],
+            s.meas[1],
+            s.d[0] != 0,
+            s.d[1] != 0,
+            s.dt_us as u32,
+        );
+        if self.drive.wheels.fault().is_some() {
+            self.stalled(now_us, &s.pose);
+            return MotorCmd::Brake;
+        }
+        self.cmd = (v, w);
+        MotorCmd::Duty(dl, dr)
+    }
+
+    /// The velocity wanted now, before the guard.
+    fn motion(&mut self, now_us: u64, pose: &Pose) -> (i32, i32) {
+        match self.phase {
+            Phase::SelfTestWheels { .. } => return (0, 800),
+            Phase::Cover | Phase::Edge | Phase::ReturnSearch | Phase::Return => {}
+            _ => return (0, 0),
+        }
+        match self.activity {
+            Activity::BackOff { until_us } => {
+                if now_us < until_us {
+                    return (-100, 0);
+                }
+                self.activity = Activity::Follow;
+                if self.retries > self.cfg.stall_retries {
+                    self.skip_front(now_us, true);
+                }
+                (0, 0)
+            }
+            Activity::Avoid => self.dwa_cmd,
+            Activity::Follow => self.follow_front(now_us, pose),
+        }
+    }
+
+    /// Drives the front sub-path; drops it when done or timed out.
+    fn follow_front(&mut self, now_us: u64, pose: &Pose) -> (i32, i32) {
+        let Some((seg, _)) = self.queue.front() else {
+            self.subpath_since_us = now_us;
+            return (0, 0);
+        };
+        if now_us.saturating_sub(self.subpath_since_us) > self.cfg.subpath_timeout_us {
+            self.skip_front(now_us, false);
+            return (0, 0);
+        }
+        match follow(&self.cfg.follow, &seg, pose) {
+            FollowCmd::Arrived => {
+                self.queue.pop();
+                self.subpath_since_us = now_us;
+                self.retries = 0;
+                (0, 0)
+            }
+            FollowCmd::Drive { v_mm_s, w_mrad_s } => (v_mm_s, w_mrad_s),
+        }
+    }
+
+    /// Gives up the current sub-path: the planner learns of it through the
+    /// hand-off (its cells go back for a later pass, or after repeated
+    /// stalls its planning cell is marked blocked).
+    fn skip_front(&mut self, now_us: u64, stalled: bool) {
+        if let Some((seg, cover)) = self.queue.front() {
+            let last_end = self.queue.last_end();
+            self.hand_off(
+                now_us,
+                Note::GaveUp {
+                    seg,
+                    cover,
+                    stalled,
+                    last_end,
+                },
+            );
+        }
+        self.queue.pop();
+        self.counters.skipped += 1;
+        self.subpath_since_us = now_us;
+        self.retries = 0;
+        self.activity = Activity::Follow;
+    }
+
+    /// Escape: touching distance to something (a person stepped in, or
+    /// the pose drifted onto a corner). A turn with unequal motors would
+    /// edge the body into it, so back straight away from it instead.
+    fn escape(&mut self, pose: &Pose, v: i32, w: i32) -> (i32, i32) {
+        let close = (self.cfg.radius_mm + self.cfg.escape_mm) as i64;
+        let (mut n_close, mut sum_x) = (0i64, 0i64);
+        for q in self.points() {
+            let (x, y) = to_robot(pose, q);
+            if (x as i64).pow(2) + (y as i64).pow(2) < close * close {
+                n_close += 1;
+                sum_x += x as i64;
+            }
+        }
+        if n_close >= 2 && !matches!(self.phase, Phase::SelfTestWheels { .. }) {
+            self.counters.escapes += 1;
+            return (if sum_x > 0 { -60 } else { 60 }, 0);
+        }
+        (v, w)
+    }
+
+    /// The guard: mapped things with the normal reserve; unmapped ones
+    /// (which may be people walking) with a wider corridor and a reserve
+    /// for how far they move while the lidar comes round again. Returns
+    /// the capped linear speed.
+    fn guard(&mut self, now_us: u64, pose: &Pose, v: i32, w: i32) -> i32 {
+        if v == 0 {
+            return v;
+        }
+        let g = self.cfg.guard;
+        // A turning robot is checked along its present heading and the
+        // one it will have in a quarter second (the arc's chord).
+        let turned = Pose {
+            theta_mrad: pose.theta_mrad + w / 4,
+            ..*pose
+        };
+        let free_along = |mapped: bool, radius: i32| {
+            [*pose, turned]
+                .iter()
+                .map(|p| {
+                    let pts = self.points_where(mapped).map(|q| to_robot(p, q));
+                    free_distance_mm(pts, radius, v > 0)
+                })
+                .min()
+                .unwrap_or(i32::MAX)
+        };
+        let free_static = free_along(true, g.radius_mm);
+        let free_moving = free_along(false, g.radius_mm + g.moving_margin_mm);
+        let lim_static = limit_speed(&g, v, free_static);
+        let moving = GuardParams {
+            reserve_mm: g.reserve_mm + g.moving_margin_mm,
+            ..g
+        };
+        let lim_moving = limit_speed(&moving, v, free_moving);
+        let lim = if v > 0 {
+            lim_static.min(lim_moving)
+        } else {
+            lim_static.max(lim_moving)
+        };
+        if lim != v {
+            self.counters.guard_ticks += 1;
+        }
+        if v > 0 && lim == 0 && self.activity == Activity::Follow {
+            self.guard_block_since.get_or_insert(now_us);
+        } else {
+            self.guard_block_since = None;
+        }
+        lim
+    }
+
+    /// A wheel stalled: back off. Something the lidar sees against the
+    /// body (a person, a chair) is an obstruction to back away from; only
+    /// a stall with nothing in sight (a rug's edge, a cable) counts toward
+    /// giving the place up.
+    fn stalled(&mut self, now_us: u64, pose: &Pose) {
+        self.drive.wheels.clear_fault();
+        self.counters.stalls += 1;
+        let reach = (self.cfg.radius_mm + 60) as i64;
+        let touching = self.points().any(|q| {
+            let (dx, dy) = ((q.0 - pose.x_mm) as i64, (q.1 - pose.y_mm) as i64);
+            dx * dx + dy * dy < reach * reach
+        });
+        if !touching {
+            self.retries = self.retries.saturating_add(1);
+        }
+        self.activity = Activity::BackOff {
+            until_us: now_us + 1_200_000,
+        };
+        self.cmd = (0, 0);
+    }
+}

@@ -1,0 +1,252 @@
+//! Cleaning lanes: the coverage planner on the planning cells
+//! ([`crate::coverage`], [`crate::nav::cspace`]), each waypoint re-checked on
+//! the fine map and detoured by A* on it when a wall's end is in the way,
+//! and the fine path fed into the sub-path queue.
+
+use super::{Exec, Fault, Feed, Phase, QUEUE};
+use crate::coverage::{CoverageError, Step};
+use crate::grid::Cell;
+use crate::nav::cspace;
+use crate::nav::geometry::{dist_mm, nearest_free_fine, prune_clear, segment_clear};
+use crate::robot::odometry::Pose;
+use crate::search::{Algo, Progress, SearchError};
+use crate::verify::metrics::SegmentKind;
+
+impl<
+        const N: usize,
+        const NW: usize,
+        const OPEN: usize,
+        const LCAP: usize,
+        const PCAP: usize,
+        const EV: usize,
+    > Exec<'_, '_, '_, N, NW, OPEN, LCAP, PCAP, EV>
+{
+    /// The cover phase's step: map upkeep, avoidance, the fine path being
+    /// fed, the planner's next waypoints; the edge pass when it is done.
+    pub(super) fn cover_step(&mut self, now_us: u64, pose: &Pose) {
+        self.refresh_coarse();
+        self.watch_corridor(now_us, pose);
+        if !self.feed_path() {
+            return;
+        }
+        self.top_up_cover();
+        let m = &mut *self.m;
+        if m.planner_done && m.queue.is_empty() && m.feed.is_none() {
+            self.start_edge(pose);
+        }
+    }
+
+    /// Unknown mode: the planning cells follow the map (the planner's own
+    /// cell stays free so it can always search from it).
+    pub(super) fn refresh_coarse(&mut self) {
+        let m = &mut *self.m;
+        if !m.map_dirty {
+            return;
+        }
+        m.map_dirty = false;
+        let r = (m.cfg.radius_mm + m.cfg.margin_mm) as u32;
+        if cspace::update_coarse(self.p.map, self.p.coarse, m.cfg.plan_cell_mm, r, false).is_err() {
+            self.fail(Fault::Capacity);
+            return;
+        }
+        let (x, y) = self.p.planner.position().xy();
+        let _ = self.p.coarse.set_obstacle(x, y, false);
+    }
+
+    pub(super) fn start_cover(&mut self, now_us: u64, pose: &Pose) {
+        self.m.map_dirty = true;
+        self.refresh_coarse();
+        let m = &mut *self.m;
+        let cell = m.cfg.plan_cell_mm;
+        let (cx, cy) = cspace::coarse_of(self.p.map, cell, pose.x_mm, pose.y_mm);
+        // The planning cell the robot is in, or the nearest free one.
+        let mut best: Option<(i64, Cell)> = None;
+        for dy in -2..=2 {
+            for dx in -2..=2 {
+                let (x, y) = (cx + dx, cy + dy);
+                if !self.p.coarse.is_free(x, y) {
+                    continue;
+                }
+                let d = dist_mm(self.anchor(x, y), (pose.x_mm, pose.y_mm));
+                if best.is_none_or(|(b, _)| d < b) {
+                    best = Cell::from_xy(x, y).map(|c| (d, c));
+                }
+            }
+        }
+        let Some((_, start)) = best else {
+            self.fail(Fault::StartBlocked);
+            return;
+        };
+        if self.p.planner.start(self.p.coarse, start).is_err() {
+            self.fail(Fault::StartBlocked);
+            return;
+        }
+        let m = &mut *self.m;
+        m.queue.reset((pose.x_mm, pose.y_mm));
+        m.phase = Phase::Cover;
+        m.subpath_since_us = now_us;
+        let to = self.anchor(start.x as i32, start.y as i32);
+        self.enqueue(to, true);
+    }
+
+    /// World mm where the robot stands for planning cell (x, y).
+    pub(super) fn anchor(&self, x: i32, y: i32) -> (i32, i32) {
+        let c = &self.m.cfg;
+        let r = (c.radius_mm + c.margin_mm) as u32;
+        cspace::anchor_mm(self.p.map, c.plan_cell_mm, r, x, y)
+    }
+
+    /// Asks the planner for waypoints until a few are queued.
+    pub(super) fn top_up_cover(&mut self) {
+        let budget = self.m.cfg.node_budget;
+        while self.m.queue.len() < 4 && !self.m.planner_done && self.m.feed.is_none() {
+            match self.p.planner.step(self.p.coarse, budget) {
+                Ok(Step::Move(w)) => {
+                    let (x, y) = w.to.xy();
+                    let to = self.anchor(x, y);
+                    self.enqueue(to, w.kind == SegmentKind::Cover);
+                }
+                Ok(Step::Pending) => break,
+                Ok(Step::Done) => {
+                    // Goals given up while the map was different (a person
+                    // in a doorway) get up to two more chances.
+                    let at = self.p.planner.position();
+                    if self.m.abandon_rounds < 2 && self.p.planner.retry_abandoned(at) > 0 {
+                        self.m.abandon_rounds += 1;
+                        self.m.counters.abandoned_retries += 1;
+                    } else {
+                        self.m.planner_done = true;
+                    }
+                }
+                Err(CoverageError::Search(SearchError::StartBlocked)) => {
+                    // The map moved under the planner: free its cell and
+                    // try again next step.
+                    let (x, y) = self.p.planner.position().xy();
+                    let _ = self.p.coarse.set_obstacle(x, y, false);
+                    break;
+                }
+                Err(_) => {
+                    self.fail(Fault::Capacity);
+                    break;
+                }
+            }
+        }
+    }
+
+    /// Queues a straight move to `to`, or a detour on the fine map when the
+    /// straight segment is not clear.
+    pub(super) fn enqueue(&mut self, to: (i32, i32), cover: bool) {
+        let m = &mut *self.m;
+        let from = m.queue.last_end().unwrap_or(to);
+        let r = (m.cfg.radius_mm + m.cfg.margin_mm / 2) as i64;
+        if segment_clear(self.p.map, from, to, r) {
+            if !m.queue.push(to, cover) {
+                self.fail(Fault::Capacity);
+            }
+            return;
+        }
+        self.detour(from, to, cover);
+    }
+
+    /// Queues an A* path on the fine configuration space from `from` to
+    /// `to` (the fine grid is rebuilt first when the map changed during
+    /// coverage; the edge pass's grid is used as it is).
+    pub(super) fn detour(&mut self, from: (i32, i32), to: (i32, i32), cover: bool) {
+        let m = &mut *self.m;
+        if m.fine_stale && !m.fine_is_edge {
+            let r = (m.cfg.radius_mm + m.cfg.margin_mm) as u32;
+            if cspace::build_fine(self.p.map, self.p.fine, r, false).is_err() {
+                self.fail(Fault::Capacity);
+                return;
+            }
+            m.fine_stale = false;
+        }
+        m.edge.interrupt();
+        let a = nearest_free_fine(self.p.map, self.p.fine, from);
+        let b = nearest_free_fine(self.p.map, self.p.fine, to);
+        let (Some(a), Some(b)) = (a, b) else {
+            // Not representable on the fine map: drive straight (the guard
+            // still protects).
+            let _ = m.queue.push(to, cover);
+            return;
+        };
+        m.counters.detours += 1;
+        let search = &mut *self.p.search;
+        if search.begin(self.p.fine, a, &[b], Algo::AStar).is_err() {
+            let _ = m.queue.push(to, cover);
+            return;
+        }
+        m.feed = Some(Feed {
+            searching: true,
+            len: 0,
+            pos: 0,
+            cover,
+            then: Some(to),
+        });
+    }
+
+    /// Advances the fine path being fed (search, then queueing its cells).
+    /// True when nothing is left to feed.
+    pub(super) fn feed_path(&mut self) -> bool {
+        let Some(mut f) = self.m.feed else {
+            return true;
+        };
+        if f.searching {
+            let search = &mut *self.p.search;
+            match search.resume(self.p.fine, self.m.cfg.node_budget) {
+                Ok(Progress::Pending { .. }) => return false,
+                Ok(Progress::Found(_)) => match search.write_path(self.p.path) {
+                    Ok(n) => {
+                        let r = (self.m.cfg.radius_mm + self.m.cfg.margin_mm / 2) as i64;
+                        f.len =
+                            prune_clear(self.p.map, self.p.path.get_mut(..n).unwrap_or(&mut []), r);
+                        f.searching = false;
+                    }
+                    Err(_) => {
+                        self.fail(Fault::Capacity);
+                        return false;
+                    }
+                },
+                Err(SearchError::NoPath) => {
+                    self.m.feed = None;
+                    if self.m.phase == Phase::ReturnSearch {
+                        // No way home on this map: plan again from a fresh
+                        // map (the Return phase counts the tries).
+                        self.m.phase = Phase::Return;
+                        self.m.fine_is_edge = false;
+                    } else {
+                        self.m.counters.skipped += 1;
+                    }
+                    return true;
+                }
+                Err(_) => {
+                    self.fail(Fault::Capacity);
+                    return false;
+                }
+            }
+        }
+        let m = &mut *self.m;
+        while f.pos < f.len && m.queue.len() + 1 < QUEUE {
+            let Some(&c) = self.p.path.get(f.pos) else {
+                break;
+            };
+            let p = cspace::fine_centre_mm(self.p.map, c.x as i32, c.y as i32);
+            if !m.queue.push(p, f.cover) {
+                break;
+            }
+            f.pos += 1;
+        }
+        if f.pos < f.len {
+            m.feed = Some(f);
+            return false;
+        }
+        if let Some(t) = f.then {
+            if m.queue.len() + 1 >= QUEUE || !m.queue.push(t, f.cover) {
+                m.feed = Some(f);
+                return false;
+            }
+        }
+        m.feed = None;
+        true
+    }
+}

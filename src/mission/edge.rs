@@ -1,0 +1,89 @@
+//! The edge pass ([`crate::nav::edge`]) along every wall and piece of
+//! furniture, on the fine configuration space, after the lanes.
+
+use super::{Exec, Fault, MapMode, Phase, HOME_TRIES};
+use crate::nav::cspace;
+use crate::nav::edge::{EdgePass, EdgeStep};
+use crate::nav::geometry::nearest_free_fine_within;
+use crate::robot::odometry::Pose;
+
+impl<
+        const N: usize,
+        const NW: usize,
+        const OPEN: usize,
+        const LCAP: usize,
+        const PCAP: usize,
+        const EV: usize,
+    > Exec<'_, '_, '_, N, NW, OPEN, LCAP, PCAP, EV>
+{
+    pub(super) fn start_edge(&mut self, pose: &Pose) {
+        let m = &mut *self.m;
+        let r = (m.cfg.radius_mm + m.cfg.margin_mm) as u32;
+        let unknown_blocks = m.cfg.mode == MapMode::Unknown;
+        if cspace::build_fine(self.p.map, self.p.fine, r, unknown_blocks).is_err() {
+            self.fail(Fault::Capacity);
+            return;
+        }
+        m.fine_is_edge = true;
+        let from = nearest_free_fine_within(self.p.map, self.p.fine, (pose.x_mm, pose.y_mm), 10);
+        let Some(from) = from else {
+            // Boxed in on the map (someone beside the robot is mapped):
+            // try again next step, for up to 30 s, then skip the edge pass.
+            m.edge_tries += 1;
+            m.fine_is_edge = false;
+            if m.edge_tries > HOME_TRIES {
+                m.phase = Phase::ReturnSearch;
+                self.begin_return(pose);
+            }
+            return;
+        };
+        m.queue.reset((pose.x_mm, pose.y_mm));
+        let fc = cspace::fine_centre_mm(self.p.map, from.x as i32, from.y as i32);
+        let _ = m.queue.push(fc, false);
+        if !m.edge.start(self.p.fine, from) {
+            m.phase = Phase::ReturnSearch;
+            self.begin_return(pose);
+            return;
+        }
+        m.phase = Phase::Edge;
+    }
+
+    pub(super) fn top_up_edge(&mut self) {
+        let budget = self.m.cfg.node_budget;
+        while self.m.queue.len() < 8 {
+            let search = &mut *self.p.search;
+            match self.m.edge.step(self.p.fine, search, self.p.path, budget) {
+                Ok(EdgeStep::Move { .. } | EdgeStep::Done)
+                    if self.m.edge.stats.reached * 2 < self.m.edge.stats.free
+                        && self.m.edge_tries < HOME_TRIES =>
+                {
+                    // Boxed in on the map (someone who stood beside the
+                    // robot is still mapped around it): wait and build the
+                    // edge pass again from a fresher map.
+                    let m = &mut *self.m;
+                    m.edge_tries += 1;
+                    m.edge = EdgePass::new();
+                    m.queue.reset(m.queue.last_end().unwrap_or((0, 0)));
+                    m.fine_is_edge = false;
+                    m.phase = Phase::Cover;
+                    return;
+                }
+                Ok(EdgeStep::Move { to, edge }) => {
+                    let p = cspace::fine_centre_mm(self.p.map, to.x as i32, to.y as i32);
+                    let _ = self.m.queue.push(p, edge);
+                }
+                Ok(EdgeStep::Pending) => return,
+                Ok(EdgeStep::Done) => {
+                    self.m.phase = Phase::ReturnSearch;
+                    let pose = self.m.drive.odom.pose();
+                    self.begin_return(&pose);
+                    return;
+                }
+                Err(_) => {
+                    self.fail(Fault::Capacity);
+                    return;
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,92 @@
+//! The way home: A* on the fine configuration space to the dock, planned
+//! again when cut short; done only within 100 mm of the dock.
+
+use super::{Exec, Fault, Feed, MapMode, Phase, HOME_TRIES};
+use crate::nav::cspace;
+use crate::nav::geometry::{dist_mm, nearest_free_fine_within};
+use crate::robot::odometry::Pose;
+use crate::search::Algo;
+
+impl<
+        const N: usize,
+        const NW: usize,
+        const OPEN: usize,
+        const LCAP: usize,
+        const PCAP: usize,
+        const EV: usize,
+    > Exec<'_, '_, '_, N, NW, OPEN, LCAP, PCAP, EV>
+{
+    /// The way home's step: feed the path; at the end, done when at the
+    /// dock, else plan again (a few times) or fail.
+    pub(super) fn return_step(&mut self, now_us: u64, pose: &Pose) {
+        self.watch_corridor(now_us, pose);
+        if !self.feed_path() {
+            return;
+        }
+        let m = &mut *self.m;
+        if m.phase == Phase::ReturnSearch {
+            m.phase = Phase::Return;
+        }
+        if !m.queue.is_empty() {
+            return;
+        }
+        // Home only when there: a way home given up on the way (a
+        // timeout) is planned again, a few times.
+        let home = (m.start.x_mm, m.start.y_mm);
+        if dist_mm((pose.x_mm, pose.y_mm), home) <= 100 {
+            m.phase = Phase::Done;
+        } else if m.home_tries < HOME_TRIES {
+            m.home_tries += 1;
+            m.queue.reset((pose.x_mm, pose.y_mm));
+            m.fine_is_edge = false;
+            self.begin_return(pose);
+        } else {
+            self.fail(Fault::NoWayHome);
+        }
+    }
+
+    /// Plans the way home from the end of the queue to the start.
+    pub(super) fn begin_return(&mut self, pose: &Pose) {
+        let m = &mut *self.m;
+        m.phase = Phase::ReturnSearch;
+        if !m.fine_is_edge {
+            let r = (m.cfg.radius_mm + m.cfg.margin_mm) as u32;
+            let unknown_blocks = m.cfg.mode == MapMode::Unknown;
+            if cspace::build_fine(self.p.map, self.p.fine, r, unknown_blocks).is_err() {
+                self.fail(Fault::Capacity);
+                return;
+            }
+        }
+        let from = m.queue.last_end().unwrap_or((pose.x_mm, pose.y_mm));
+        let home = (m.start.x_mm, m.start.y_mm);
+        // Look wider than for a detour: the dock may have been mapped a
+        // little off (drift), or someone stands beside the robot.
+        let a = nearest_free_fine_within(self.p.map, self.p.fine, from, 10);
+        let b = nearest_free_fine_within(self.p.map, self.p.fine, home, 10);
+        let (Some(a), Some(b)) = (a, b) else {
+            // Try again on the next step (the map changes as people move);
+            // the Return phase gives up after `HOME_TRIES`.
+            m.phase = Phase::Return;
+            m.fine_is_edge = false;
+            return;
+        };
+        if a == b {
+            let _ = m.queue.push(home, false);
+            m.phase = Phase::Return;
+            return;
+        }
+        let search = &mut *self.p.search;
+        if search.begin(self.p.fine, a, &[b], Algo::AStar).is_err() {
+            m.phase = Phase::Return;
+            m.fine_is_edge = false;
+            return;
+        }
+        m.feed = Some(Feed {
+            searching: true,
+            len: 0,
+            pos: 0,
+            cover: false,
+            then: Some(home),
+        });
+    }
+}

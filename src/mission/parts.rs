@@ -1,0 +1,70 @@
+//! The big buffers the executive works in, owned by the caller, and the
+//! [`MissionParts`] trait through which the entry points take them, so an
+//! entry point names one type parameter instead of six const generics.
+
+use super::{Exec, Mission};
+use crate::coverage::Coverage;
+use crate::grid::{Cell, Grid};
+use crate::robot::lidar_map::EvidenceMap;
+use crate::robot::odometry::Pose;
+use crate::search::SearchState;
+
+/// The big buffers the executive works in, owned by the caller (statics
+/// on the robot, heap boxes on the host).
+pub struct Parts<
+    'a,
+    const N: usize,
+    const NW: usize,
+    const OPEN: usize,
+    const LCAP: usize,
+    const PCAP: usize,
+    const EV: usize,
+> {
+    /// The coverage planner.
+    pub planner: &'a mut Coverage<N, NW, OPEN, LCAP, PCAP>,
+    /// The fine-grid searches' state (detours, edge transits, the way
+    /// home), separate from the planner's so neither clobbers the other.
+    pub search: &'a mut SearchState<N, NW, OPEN>,
+    /// Planning cells.
+    pub coarse: &'a mut Grid<NW>,
+    /// The fine configuration space (the evidence map's cells).
+    pub fine: &'a mut Grid<NW>,
+    /// The evidence map (known mode: filled with the prior map).
+    pub map: &'a mut EvidenceMap<EV>,
+    /// Fine path buffer (detours, edge transits, the way home).
+    pub path: &'a mut [Cell],
+}
+
+/// What the entry points of [`Mission`] need of the caller's buffers.
+/// Implemented by [`Parts`] of every size; the methods are the entry
+/// points' bodies (call the ones on [`Mission`]).
+pub trait MissionParts {
+    /// See [`Mission::begin`].
+    fn begin(&mut self, m: &mut Mission, start: Pose);
+    /// See [`Mission::feed_lidar`].
+    fn feed_lidar(&mut self, m: &mut Mission, bytes: &[u8], now_us: u64);
+    /// See [`Mission::plan`].
+    fn plan(&mut self, m: &mut Mission, now_us: u64);
+}
+
+impl<
+        const N: usize,
+        const NW: usize,
+        const OPEN: usize,
+        const LCAP: usize,
+        const PCAP: usize,
+        const EV: usize,
+    > MissionParts for Parts<'_, N, NW, OPEN, LCAP, PCAP, EV>
+{
+    fn begin(&mut self, m: &mut Mission, start: Pose) {
+        Exec { m, p: self }.begin(start);
+    }
+
+    fn feed_lidar(&mut self, m: &mut Mission, bytes: &[u8], now_us: u64) {
+        m.feed_bytes(self.map, bytes, now_us);
+    }
+
+    fn plan(&mut self, m: &mut Mission, now_us: u64) {
+        Exec { m, p: self }.plan(now_us);
+    }
+}

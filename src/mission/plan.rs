@@ -1,0 +1,156 @@
+//! The planning step (10 Hz): the hand-off replayed, the battery, the
+//! guard's hold, and the one dispatch on the phase; the self-test.
+
+use super::{seg_to, Activity, Exec, Fault, Mission, Phase};
+use crate::nav::cspace;
+use crate::nav::geometry::segment_clear;
+use crate::robot::odometry::Pose;
+
+impl<
+        const N: usize,
+        const NW: usize,
+        const OPEN: usize,
+        const LCAP: usize,
+        const PCAP: usize,
+        const EV: usize,
+    > Exec<'_, '_, '_, N, NW, OPEN, LCAP, PCAP, EV>
+{
+    /// The body of [`Mission::begin`].
+    pub(super) fn begin(&mut self, start: Pose) {
+        let cfg = self.m.cfg;
+        *self.m = Mission::new(cfg);
+        let m = &mut *self.m;
+        m.drive
+            .odom
+            .set_pose(start.x_mm, start.y_mm, start.theta_mrad);
+        m.drive.map_h_mm = self.p.map.height() as i64 * self.p.map.res_mm() as i64;
+        m.start = start;
+        self.p.planner.set_kind(cfg.kind);
+        let r = (cfg.radius_mm + cfg.margin_mm) as u32;
+        let ok = cspace::size_coarse(self.p.map, self.p.coarse, cfg.plan_cell_mm).is_ok()
+            && cspace::update_coarse(self.p.map, self.p.coarse, cfg.plan_cell_mm, r, false).is_ok();
+        m.phase = if ok {
+            Phase::SelfTestScan { since_us: 0 }
+        } else {
+            Phase::Failed(Fault::Capacity)
+        };
+    }
+
+    /// The body of [`Mission::plan`]: replays the hand-off, then steps.
+    pub(super) fn plan(&mut self, now_us: u64) {
+        let m = &mut *self.m;
+        m.plan_due_us = now_us + m.cfg.plan_period_us;
+        m.counters.plan_steps += 1;
+        self.drain();
+        let pose = self.m.drive.odom.pose();
+        self.step(now_us, &pose);
+    }
+
+    /// One planning step (10 Hz).
+    /// One planning step: the battery, the guard's hold, then the phase's
+    /// own work. The one state-machine dispatch of the executive.
+    fn step(&mut self, now_us: u64, pose: &Pose) {
+        if self.battery_spent(now_us, pose) {
+            return;
+        }
+        self.guard_hold(now_us, pose);
+        match self.m.phase {
+            Phase::SelfTestScan { .. }
+            | Phase::SelfTestWheels { .. }
+            | Phase::SelfTestSettle { .. } => self.self_test(now_us, pose),
+            Phase::Cover => self.cover_step(now_us, pose),
+            Phase::Edge => {
+                self.watch_corridor(now_us, pose);
+                if self.feed_path() {
+                    self.top_up_edge();
+                }
+            }
+            Phase::ReturnSearch | Phase::Return => self.return_step(now_us, pose),
+            Phase::Idle | Phase::Done | Phase::Failed(_) => {}
+        }
+    }
+
+    /// Battery: after the cleaning budget, go home. True when it did.
+    fn battery_spent(&mut self, now_us: u64, pose: &Pose) -> bool {
+        let m = &mut *self.m;
+        if !matches!(m.phase, Phase::Cover | Phase::Edge)
+            || now_us.saturating_sub(m.started_us) <= m.cfg.battery_us
+        {
+            return false;
+        }
+        m.counters.battery_returns += 1;
+        m.feed = None;
+        m.activity = Activity::Follow;
+        m.queue.reset((pose.x_mm, pose.y_mm));
+        m.fine_is_edge = false;
+        self.begin_return(pose);
+        true
+    }
+
+    /// Held by the guard for a second. If the map says the way on is
+    /// clear, what blocks it is not on the map (or the pose drifted): steer
+    /// around it on the lidar alone (DWA). If the map has learnt of a wall
+    /// across it: plan the leg again.
+    fn guard_hold(&mut self, now_us: u64, pose: &Pose) {
+        let m = &mut *self.m;
+        let driving = matches!(
+            m.phase,
+            Phase::Cover | Phase::Edge | Phase::ReturnSearch | Phase::Return
+        );
+        let held = m
+            .guard_block_since
+            .is_some_and(|t| now_us.saturating_sub(t) > 1_000_000);
+        if !driving || m.activity != Activity::Follow || !held {
+            return;
+        }
+        m.guard_block_since = None;
+        let here = (pose.x_mm, pose.y_mm);
+        let r = (m.cfg.radius_mm + m.cfg.margin_mm / 2) as i64;
+        match m.queue.front() {
+            Some((_, _)) if segment_clear(self.p.map, here, seg_to(&m.queue), r) => {
+                m.activity = Activity::Avoid;
+                m.avoid_since_us = now_us;
+                m.counters.avoidance_events += 1;
+                m.dwa_cmd = (0, 0);
+            }
+            _ => self.replan_leg(now_us, pose),
+        }
+    }
+
+    /// The self-test phases: lidar revolutions, then a turn in place.
+    fn self_test(&mut self, now_us: u64, pose: &Pose) {
+        let m = &mut *self.m;
+        match m.phase {
+            Phase::SelfTestScan { since_us } => {
+                if m.counters.scans >= 2 {
+                    m.phase = Phase::SelfTestWheels {
+                        until_us: now_us + 400_000,
+                        enc0: m.drive.enc_last,
+                    };
+                } else if now_us.saturating_sub(since_us) > 3_000_000 {
+                    self.fail(Fault::SelfTestLidar);
+                }
+            }
+            Phase::SelfTestWheels { until_us, enc0 } => {
+                if now_us >= until_us {
+                    let dl = m.drive.enc_last.0.wrapping_sub(enc0.0) as i16;
+                    let dr = m.drive.enc_last.1.wrapping_sub(enc0.1) as i16;
+                    // Turning left: the left wheel backward, the right forward.
+                    m.phase = if dl <= -20 && dr >= 20 {
+                        Phase::SelfTestSettle {
+                            until_us: now_us + 300_000,
+                        }
+                    } else {
+                        Phase::Failed(Fault::SelfTestWheels)
+                    };
+                }
+            }
+            Phase::SelfTestSettle { until_us } => {
+                if now_us >= until_us {
+                    self.start_cover(now_us, pose);
+                }
+            }
+            _ => {}
+        }
+    }
+}

@@ -1,0 +1,187 @@
+//! Recovering: failing with a typed fault, replaying control's give-ups,
+//! putting the cells of a sub-path the robot could not drive back for a
+//! later pass, and planning a leg again when the guard held the robot.
+
+use super::handoff::Note;
+use super::{Activity, Exec, Fault, Phase, MAX_RETRIES, QUEUE};
+use crate::grid::{Cell, Layer};
+use crate::nav::cspace;
+use crate::nav::follow::SubPath;
+use crate::nav::geometry::dist_mm;
+use crate::robot::odometry::Pose;
+
+impl<
+        const N: usize,
+        const NW: usize,
+        const OPEN: usize,
+        const LCAP: usize,
+        const PCAP: usize,
+        const EV: usize,
+    > Exec<'_, '_, '_, N, NW, OPEN, LCAP, PCAP, EV>
+{
+    pub(super) fn fail(&mut self, f: Fault) {
+        self.m.phase = Phase::Failed(f);
+        self.m.activity = Activity::Follow;
+    }
+
+    /// Replays what control handed off since the last step, in order.
+    pub(super) fn drain(&mut self) {
+        for note in self.m.handoff.take() {
+            match note {
+                Note::Swept((gx, gy)) => {
+                    let _ = self.p.coarse.set(Layer::Known, gx, gy, true);
+                }
+                Note::GaveUp {
+                    seg,
+                    cover,
+                    stalled,
+                    last_end,
+                } => self.gave_up(seg, cover, stalled, last_end),
+            }
+        }
+    }
+
+    /// Control gave up `seg`: its cells go back for a later pass, or after
+    /// repeated stalls its planning cell is marked blocked.
+    fn gave_up(&mut self, seg: SubPath, cover: bool, stalled: bool, last_end: Option<(i32, i32)>) {
+        if !stalled {
+            self.give_up(seg, cover, last_end);
+            return;
+        }
+        let m = &mut *self.m;
+        if m.phase == Phase::Cover {
+            let (gx, gy) = cspace::coarse_of(self.p.map, m.cfg.plan_cell_mm, seg.to.0, seg.to.1);
+            if self.p.coarse.set_obstacle(gx, gy, true).is_ok() {
+                m.counters.blocked_cells += 1;
+            }
+        }
+    }
+
+    /// A cleaning sub-path the robot could not drive: its cells go back to
+    /// the planner (coverage) or the edge pass, to be tried again later in
+    /// the phase, up to [`MAX_RETRIES`] per mission.
+    fn give_up(&mut self, seg: SubPath, cover: bool, last_end: Option<(i32, i32)>) {
+        let m = &mut *self.m;
+        if !cover || m.reopens >= MAX_RETRIES {
+            return;
+        }
+        if m.phase == Phase::Edge {
+            // The edge pass retries at most a tenth as often.
+            if m.edge_reopens >= MAX_RETRIES / 10 {
+                return;
+            }
+            m.edge_reopens += 1;
+        }
+        let len = dist_mm(seg.from, seg.to);
+        let mut any = false;
+        match m.phase {
+            Phase::Cover => {
+                let cell = m.cfg.plan_cell_mm;
+                let steps = (len / 100).max(1);
+                for k in 0..=steps {
+                    let x = seg.from.0 as i64 + (seg.to.0 - seg.from.0) as i64 * k / steps;
+                    let y = seg.from.1 as i64 + (seg.to.1 - seg.from.1) as i64 * k / steps;
+                    let (gx, gy) = cspace::coarse_of(self.p.map, cell, x as i32, y as i32);
+                    let g = &mut *self.p.coarse;
+                    if g.is_free(gx, gy)
+                        && !g.get(Layer::Known, gx, gy)
+                        && g.get(Layer::Covered, gx, gy)
+                    {
+                        let _ = g.set(Layer::Covered, gx, gy, false);
+                        if let Some(c) = Cell::from_xy(gx, gy) {
+                            self.p.planner.add_point(g, c);
+                        }
+                        any = true;
+                    }
+                }
+                if any {
+                    let at = last_end.unwrap_or(seg.to);
+                    let (gx, gy) = cspace::coarse_of(self.p.map, cell, at.0, at.1);
+                    if let Some(c) = Cell::from_xy(gx, gy)
+                        .filter(|c| self.p.coarse.is_free(c.x as i32, c.y as i32))
+                    {
+                        self.p.planner.reopen(c);
+                    }
+                    m.planner_done = false;
+                }
+            }
+            Phase::Edge => {
+                let steps = (len / 25).max(1);
+                for k in 0..=steps {
+                    let x = seg.from.0 as i64 + (seg.to.0 - seg.from.0) as i64 * k / steps;
+                    let y = seg.from.1 as i64 + (seg.to.1 - seg.from.1) as i64 * k / steps;
+                    let (cx, cy) = self.p.map.cell_of(x as i32, y as i32);
+                    let g = &mut *self.p.fine;
+                    if crate::nav::edge::is_boundary(g, cx, cy) && g.get(Layer::Covered, cx, cy) {
+                        let _ = g.set(Layer::Covered, cx, cy, false);
+                        any = true;
+                    }
+                }
+                if any {
+                    let at = m.edge.position();
+                    m.edge.reopen(at);
+                }
+            }
+            _ => {}
+        }
+        if any {
+            m.reopens += 1;
+            m.counters.retried += 1;
+        }
+    }
+
+    /// The guard has held the robot: the leg ahead runs into something the
+    /// plan did not know of (a wall first seen now, or the pose drifted).
+    /// Drops the queue and plans a fresh fine-map path from where the robot
+    /// stands to where the queue ended; the same target given up after
+    /// three tries.
+    pub(super) fn replan_leg(&mut self, now_us: u64, pose: &Pose) {
+        let m = &mut *self.m;
+        m.guard_block_since = None;
+        let cover = m.queue.front().is_some_and(|(_, c)| c);
+        let target = m.feed.and_then(|f| f.then).or(m.queue.last_end());
+        let mut dropped = [(
+            SubPath {
+                from: (0, 0),
+                to: (0, 0),
+            },
+            false,
+        ); QUEUE];
+        let mut n = 0;
+        for (slot, item) in dropped.iter_mut().zip(m.queue.iter()) {
+            *slot = item;
+            n += 1;
+        }
+        let last_end = m.queue.last_end();
+        for &(seg, c) in dropped.iter().take(n) {
+            self.give_up(seg, c, last_end);
+        }
+        let m = &mut *self.m;
+        m.feed = None;
+        let here = (pose.x_mm, pose.y_mm);
+        m.queue.reset(here);
+        m.subpath_since_us = now_us;
+        m.counters.replans += 1;
+        let Some(t) = target else {
+            return;
+        };
+        if m.replan_target == Some(t) {
+            m.replan_count += 1;
+        } else {
+            m.replan_target = Some(t);
+            m.replan_count = 1;
+        }
+        if m.replan_count > 3 {
+            m.counters.skipped += 1;
+            m.replan_count = 0;
+            if m.phase == Phase::Return || m.phase == Phase::ReturnSearch {
+                self.fail(Fault::NoWayHome);
+            }
+            return;
+        }
+        if m.phase == Phase::ReturnSearch || m.phase == Phase::Return {
+            m.phase = Phase::ReturnSearch;
+        }
+        self.detour(here, t, cover);
+    }
+}
