@@ -55,14 +55,17 @@ pub mod cells;
 pub mod list;
 pub mod planners;
 pub mod rules;
+pub mod types;
+mod upkeep;
 
 pub use cells::{nearest_k, uncovered, E_, N_, S_, W_};
 pub use list::BacktrackList;
+pub use types::{CoverageError, PlanStats, Step, Waypoint};
 
 use crate::grid::los::{line_of_sight, supercover};
 use crate::grid::{Cell, Grid, Layer};
 use crate::search::prune::prune;
-use crate::search::{Algo, Progress, SearchError, SearchState, MAX_GOALS};
+use crate::search::{Progress, SearchError, SearchState, MAX_GOALS};
 use crate::verify::metrics::SegmentKind;
 use planners::{b_oha, b_oha_pc, b_theta, ba_star};
 use rules::{ListRule, LocalMove, Priority, Rules};
@@ -102,88 +105,6 @@ impl PlannerKind {
             PlannerKind::BOhaPc => b_oha_pc::RULES,
         }
     }
-}
-
-/// A waypoint to drive straight to.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Waypoint {
-    /// The cell to drive to.
-    pub to: Cell,
-    /// Cleaning (local coverage) or transit to a backtracking point.
-    pub kind: SegmentKind,
-    /// The first cover move after a critical point (or of the run).
-    pub starts_segment: bool,
-}
-
-/// The next thing for the robot to do.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Step {
-    /// Drive straight to a waypoint.
-    Move(Waypoint),
-    /// A transit search used up this call's node budget; call again.
-    Pending,
-    /// Every reachable cell is covered.
-    Done,
-}
-
-/// Why planning stopped.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum CoverageError {
-    /// The start is off the map or an obstacle.
-    BadStart,
-    /// `step` before `start`.
-    NotStarted,
-    /// A transit search failed for capacity (open list, map size).
-    Search(SearchError),
-    /// A transit path is longer than the path buffer `PCAP`.
-    PathTooLong,
-}
-
-impl CoverageError {
-    /// A short human-readable description.
-    pub const fn as_str(self) -> &'static str {
-        match self {
-            CoverageError::BadStart => "start is off the map or blocked",
-            CoverageError::NotStarted => "planner not started",
-            CoverageError::Search(e) => e.as_str(),
-            CoverageError::PathTooLong => "transit path exceeds the path buffer",
-        }
-    }
-}
-
-impl core::fmt::Display for CoverageError {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.write_str(self.as_str())
-    }
-}
-
-/// Counters the planner keeps (the metrics' planner-side fields).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct PlanStats {
-    /// Points ever inserted into the backtracking list.
-    pub backtrack_points_total: u32,
-    /// The list's size after each critical point's pruning (B-OHA*) or
-    /// rebuild (BA*), summed: the paper's count, as its ≈ 700 (B-OHA*) and
-    /// ≈ 3 885 (BA*) suggest.
-    pub backtrack_points_kept: u32,
-    /// Nodes expanded by transit searches.
-    pub nodes_expanded: u64,
-    /// Critical points reached (ends of local coverage).
-    pub critical_points: u32,
-    /// Transit searches run.
-    pub searches: u32,
-    /// Rescans that found uncovered cells the list had lost.
-    pub rescans_with_points: u32,
-    /// Points dropped because the list was full.
-    pub list_overflows: u32,
-    /// Goals abandoned as unreachable.
-    pub abandoned_goals: u32,
-    /// Transit segments re-planned because the grid changed under them.
-    pub replans: u32,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -396,96 +317,125 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
         // be followed by another toward other goals).
         let mut left = budget;
         loop {
-            match self.phase {
+            let next = match self.phase {
                 Phase::Idle => return Err(CoverageError::NotStarted),
                 Phase::Done => return Ok(Step::Done),
-                Phase::Local => {
-                    if let Some(next) = self.next_local_move(grid) {
-                        self.cover_segment(grid, next);
-                        self.cur = next;
-                        self.on_arrive(grid);
-                        return Ok(self.emit(next, SegmentKind::Cover));
-                    }
-                    self.new_segment = true;
-                    self.phase = Phase::Critical;
-                    self.stats.critical_points += 1;
-                    match self.kind.rules().list {
-                        ListRule::NeighboursPrunedToCorners => {
-                            b_oha::prune_list(&mut self.list, grid)
-                        }
-                        ListRule::RebuiltFromCovered => ba_star::rebuild_list(&mut self.list, grid),
-                    }
-                    self.stats.backtrack_points_kept += self.list.len() as u32;
-                }
-                Phase::Critical => {
-                    self.drop_stale(grid);
-                    if self.list.is_empty() {
-                        self.rescan(grid);
-                    }
-                    if self.list.is_empty() {
-                        self.phase = Phase::Done;
-                        return Ok(Step::Done);
-                    }
-                    let algo = self.choose_goals();
-                    let goals = self.goals.get(..self.goal_count).unwrap_or(&[]);
-                    self.search
-                        .begin(grid, self.cur, goals, algo)
-                        .map_err(CoverageError::Search)?;
-                    self.stats.searches += 1;
-                    self.phase = Phase::Searching;
-                }
+                Phase::Local => self.local_step(grid),
+                Phase::Critical => self.critical_step(grid)?,
                 Phase::Searching if left == 0 => return Ok(Step::Pending),
-                Phase::Searching => match self.resume_search(grid, &mut left) {
-                    Ok(Progress::Pending { .. }) => return Ok(Step::Pending),
-                    Ok(Progress::Found(st)) => {
-                        self.stats.nodes_expanded += st.nodes_expanded as u64;
-                        let n = self
-                            .search
-                            .write_path(&mut self.path)
-                            .map_err(|_| CoverageError::PathTooLong)?;
-                        self.split_path(grid, n);
-                        self.path_pos = 1;
-                        self.phase = Phase::Following;
-                    }
-                    Err(SearchError::NoPath) => {
-                        self.stats.nodes_expanded += self.search.nodes_expanded() as u64;
-                        for k in 0..self.goal_count {
-                            if let Some(&g) = self.goals.get(k) {
-                                self.abandon(grid, g);
-                            }
-                        }
-                        self.phase = Phase::Critical;
-                    }
-                    Err(e) => return Err(CoverageError::Search(e)),
-                },
-                Phase::Following => {
-                    let Some(&next) = self
-                        .path
-                        .get(self.path_pos)
-                        .filter(|_| self.path_pos < self.path_len)
-                    else {
-                        self.phase = Phase::Local;
-                        self.on_arrive(grid);
-                        continue;
-                    };
-                    if !line_of_sight(grid, self.cur, next) {
-                        // The grid changed under the planned path: re-plan.
-                        self.stats.replans += 1;
-                        self.phase = Phase::Critical;
-                        continue;
-                    }
-                    self.cover_segment(grid, next);
-                    self.cur = next;
-                    let kind = if self.path_pos < self.transit_end {
-                        SegmentKind::Transit
-                    } else {
-                        SegmentKind::Cover
-                    };
-                    self.path_pos += 1;
-                    return Ok(self.emit(next, kind));
-                }
+                Phase::Searching => self.search_step(grid, &mut left)?,
+                Phase::Following => self.follow_step(grid),
+            };
+            if let Some(step) = next {
+                return Ok(step);
             }
         }
+    }
+
+    /// Local coverage: the next move, or at a critical point the list's
+    /// pruning or rebuild.
+    fn local_step<const GW: usize>(&mut self, grid: &mut Grid<GW>) -> Option<Step> {
+        if let Some(next) = self.next_local_move(grid) {
+            self.cover_segment(grid, next);
+            self.cur = next;
+            self.on_arrive(grid);
+            return Some(self.emit(next, SegmentKind::Cover));
+        }
+        self.new_segment = true;
+        self.phase = Phase::Critical;
+        self.stats.critical_points += 1;
+        match self.kind.rules().list {
+            ListRule::NeighboursPrunedToCorners => b_oha::prune_list(&mut self.list, grid),
+            ListRule::RebuiltFromCovered => ba_star::rebuild_list(&mut self.list, grid),
+        }
+        self.stats.backtrack_points_kept += self.list.len() as u32;
+        None
+    }
+
+    /// At a critical point: the goals of the next transit and its search,
+    /// or done when nothing is left.
+    fn critical_step<const GW: usize>(
+        &mut self,
+        grid: &mut Grid<GW>,
+    ) -> Result<Option<Step>, CoverageError> {
+        self.drop_stale(grid);
+        if self.list.is_empty() {
+            self.rescan(grid);
+        }
+        if self.list.is_empty() {
+            self.phase = Phase::Done;
+            return Ok(Some(Step::Done));
+        }
+        let algo = self.choose_goals();
+        let goals = self.goals.get(..self.goal_count).unwrap_or(&[]);
+        self.search
+            .begin(grid, self.cur, goals, algo)
+            .map_err(CoverageError::Search)?;
+        self.stats.searches += 1;
+        self.phase = Phase::Searching;
+        Ok(None)
+    }
+
+    /// The transit search, within what is left of the budget; unreachable
+    /// goals are abandoned.
+    fn search_step<const GW: usize>(
+        &mut self,
+        grid: &mut Grid<GW>,
+        left: &mut u32,
+    ) -> Result<Option<Step>, CoverageError> {
+        match self.resume_search(grid, left) {
+            Ok(Progress::Pending { .. }) => return Ok(Some(Step::Pending)),
+            Ok(Progress::Found(st)) => {
+                self.stats.nodes_expanded += st.nodes_expanded as u64;
+                let n = self
+                    .search
+                    .write_path(&mut self.path)
+                    .map_err(|_| CoverageError::PathTooLong)?;
+                self.split_path(grid, n);
+                self.path_pos = 1;
+                self.phase = Phase::Following;
+            }
+            Err(SearchError::NoPath) => {
+                self.stats.nodes_expanded += self.search.nodes_expanded() as u64;
+                for k in 0..self.goal_count {
+                    if let Some(&g) = self.goals.get(k) {
+                        self.abandon(grid, g);
+                    }
+                }
+                self.phase = Phase::Critical;
+            }
+            Err(e) => return Err(CoverageError::Search(e)),
+        }
+        Ok(None)
+    }
+
+    /// The next waypoint of the transit path (re-planned when the grid
+    /// changed under it); back to local coverage at its end.
+    fn follow_step<const GW: usize>(&mut self, grid: &mut Grid<GW>) -> Option<Step> {
+        let Some(&next) = self
+            .path
+            .get(self.path_pos)
+            .filter(|_| self.path_pos < self.path_len)
+        else {
+            self.phase = Phase::Local;
+            self.on_arrive(grid);
+            return None;
+        };
+        if !line_of_sight(grid, self.cur, next) {
+            // The grid changed under the planned path: re-plan.
+            self.stats.replans += 1;
+            self.phase = Phase::Critical;
+            return None;
+        }
+        self.cover_segment(grid, next);
+        self.cur = next;
+        let kind = if self.path_pos < self.transit_end {
+            SegmentKind::Transit
+        } else {
+            SegmentKind::Cover
+        };
+        self.path_pos += 1;
+        Some(self.emit(next, kind))
     }
 
     /// Resumes the transit search within what is `left` of this call's
@@ -576,72 +526,5 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
         if self.kind.rules().list == ListRule::NeighboursPrunedToCorners {
             b_oha::push_neighbours(&mut self.list, grid, self.cur);
         }
-    }
-
-    /// Drops points that became obstacles or are no longer worth visiting
-    /// under the planner's own rule.
-    fn drop_stale<const GW: usize>(&mut self, grid: &mut Grid<GW>) {
-        // A point where the planner already stands (put back by a caller
-        // that un-covered it) is covered by standing there.
-        let (cx, cy) = self.cur.xy();
-        if uncovered(grid, cx, cy) && self.list.as_slice().contains(&self.cur) {
-            let _ = grid.set(Layer::Covered, cx, cy, true);
-        }
-        let rule = self.kind.rules().list;
-        self.list.retain(grid, |g, c| {
-            let (x, y) = c.xy();
-            !g.is_blocked(x, y)
-                && match rule {
-                    // B-OHA* points are uncovered cells.
-                    ListRule::NeighboursPrunedToCorners => !g.get(Layer::Covered, x, y),
-                    // BA* points are covered cells with uncovered neighbours,
-                    // or (fallback) uncovered cells.
-                    ListRule::RebuiltFromCovered => {
-                        !g.get(Layer::Covered, x, y) || ba_star::b(g, x, y) > 0
-                    }
-                }
-        });
-    }
-
-    fn abandon<const GW: usize>(&mut self, grid: &Grid<GW>, c: Cell) {
-        if self.list.abandon(grid, c) {
-            self.stats.abandoned_goals += 1;
-        }
-    }
-
-    /// The completeness fallback: refills the list with the uncovered
-    /// corner cells of every uncovered region (see the module docs).
-    fn rescan<const GW: usize>(&mut self, grid: &Grid<GW>) {
-        let (w, h) = (grid.width() as i32, grid.height() as i32);
-        let mut found = false;
-        for y in 0..h {
-            for x in 0..w {
-                if !uncovered(grid, x, y) || !cells::is_corner(grid, x, y) {
-                    continue;
-                }
-                let Some(i) = grid.index(x, y) else { continue };
-                if self.list.is_abandoned(i) {
-                    continue;
-                }
-                found = true;
-                if !self.list.push(grid, Cell::new(x as u16, y as u16)) {
-                    if found {
-                        self.stats.rescans_with_points += 1;
-                    }
-                    return; // full: the next rescan finds the rest
-                }
-            }
-        }
-        if found {
-            self.stats.rescans_with_points += 1;
-        }
-    }
-
-    /// Fills `self.goals` for the next transit and returns the search.
-    fn choose_goals(&mut self) -> Algo {
-        let rules = self.kind.rules();
-        let k = rules.transit_goals;
-        self.goal_count = nearest_k(self.list.as_slice(), self.cur, &mut self.goals, k);
-        rules.transit
     }
 }

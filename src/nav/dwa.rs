@@ -189,17 +189,38 @@ pub fn evaluate(
             }
         }
     }
-    // Clearance beyond the radius, mm (capped).
-    let clearance = if min_d2 == i64::MAX {
+    Sample {
+        v_mm_s,
+        w_mrad_s,
+        ok: admissible(p, v_mm_s, w_mrad_s, hit_at_um, step_um),
+        heading_mrad: heading_term(goal, x_um, y_um, th_urad),
+        clearance_mm: clearance_mm(p, min_d2),
+    }
+}
+
+/// Clearance beyond the radius, mm (capped), from the least squared
+/// distance in µm².
+fn clearance_mm(p: &DwaParams, min_d2: i64) -> i32 {
+    let c = if min_d2 == i64::MAX {
         p.clearance_cap_mm as i64
     } else {
         (crate::math::cost::isqrt_u64(min_d2.max(0) as u64) as i64 / 1000 - p.radius_mm as i64)
             .clamp(0, p.clearance_cap_mm as i64)
     };
-    // Va: the robot must be able to brake to a stop before the first
-    // contact. A disc turning on the spot sweeps nothing new, so v = 0 is
-    // always admissible.
-    let ok = match hit_at_um {
+    c as i32
+}
+
+/// Va: the robot must be able to brake to a stop before the first
+/// contact (`hit_at_um` along the arc). A disc turning on the spot sweeps
+/// nothing new, so v = 0 is always admissible.
+fn admissible(
+    p: &DwaParams,
+    v_mm_s: i32,
+    w_mrad_s: i32,
+    hit_at_um: Option<i64>,
+    step_um: i64,
+) -> bool {
+    match hit_at_um {
         None => true,
         Some(_) if v_mm_s == 0 => true,
         Some(h) => {
@@ -210,8 +231,12 @@ pub fn evaluate(
             v * v <= 2 * dist_mm * p.acc_mm_s2 as i64
                 && w * w <= 2 * ang_mrad * p.w_acc_mrad_s2 as i64
         }
-    };
-    // Heading: π minus the angle between the final heading and the goal.
+    }
+}
+
+/// Heading: π minus the angle between the final heading and the goal,
+/// mrad.
+fn heading_term(goal: PointMm, x_um: i64, y_um: i64, th_urad: i64) -> i32 {
     let gx = goal.0 as i64 * 1000 - x_um;
     let gy = goal.1 as i64 * 1000 - y_um;
     let to_goal = atan2_urad(gy, gx);
@@ -219,13 +244,7 @@ pub fn evaluate(
     if err > 3_141_593 {
         err = 6_283_185 - err;
     }
-    Sample {
-        v_mm_s,
-        w_mrad_s,
-        ok,
-        heading_mrad: ((3_141_593 - err) / 1000) as i32,
-        clearance_mm: clearance as i32,
-    }
+    ((3_141_593 - err) / 1000) as i32
 }
 
 /// One DWA cycle from the current velocities toward `goal` (robot frame).

@@ -216,55 +216,9 @@ impl EdgePass {
                     if Self::sweep(fine) {
                         return Ok(EdgeStep::Pending);
                     }
-                    // Unreachable free cells are of no use: block them so the
-                    // boundary is the reachable one.
-                    let (w, h) = (fine.width() as i32, fine.height() as i32);
-                    let (mut free, mut reached) = (0u32, 0u32);
-                    for y in 0..h {
-                        for x in 0..w {
-                            if fine.is_free(x, y) {
-                                free += 1;
-                                if fine.get(Layer::Known, x, y) {
-                                    reached += 1;
-                                } else {
-                                    let _ = fine.set_obstacle(x, y, true);
-                                }
-                            }
-                        }
-                    }
-                    self.stats.free = free;
-                    self.stats.reached = reached;
-                    let (x, y) = self.last.xy();
-                    if todo(fine, x, y) {
-                        let _ = fine.set(Layer::Covered, x, y, true);
-                        self.stats.visited += 1;
-                    }
-                    self.phase = Phase::Walk;
+                    self.fill_done(fine);
                 }
-                Phase::Walk => {
-                    if let Some(next) = self.next_on_contour(fine) {
-                        let (x, y) = next.xy();
-                        let _ = fine.set(Layer::Covered, x, y, true);
-                        self.stats.visited += 1;
-                        self.dir = (x - self.last.x as i32, y - self.last.y as i32);
-                        self.last = next;
-                        return Ok(EdgeStep::Move {
-                            to: next,
-                            edge: true,
-                        });
-                    }
-                    self.phase = Phase::Search;
-                    // One grid scan for goals per call.
-                    let mut goals = [Cell::new(0, 0); EDGE_GOALS];
-                    let n = self.nearest_todo(fine, &mut goals);
-                    if n == 0 {
-                        self.phase = Phase::Done;
-                        return Ok(EdgeStep::Done);
-                    }
-                    search.begin(fine, self.last, goals.get(..n).unwrap_or(&[]), Algo::AStar)?;
-                    self.stats.transits += 1;
-                    return Ok(EdgeStep::Pending);
-                }
+                Phase::Walk => return self.walk(fine, search),
                 Phase::Search => match search.resume(fine, budget) {
                     Ok(Progress::Pending { .. }) => return Ok(EdgeStep::Pending),
                     Ok(Progress::Found(_)) => {
@@ -282,28 +236,94 @@ impl EdgePass {
                     Err(e) => return Err(e),
                 },
                 Phase::Transit => {
-                    let Some(&next) = path
-                        .get(self.path_pos)
-                        .filter(|_| self.path_pos < self.path_len)
-                    else {
-                        let (x, y) = self.last.xy();
-                        if todo(fine, x, y) {
-                            let _ = fine.set(Layer::Covered, x, y, true);
-                            self.stats.visited += 1;
-                        }
-                        self.dir = (0, 0);
-                        self.phase = Phase::Walk;
-                        continue;
-                    };
-                    self.path_pos += 1;
-                    self.last = next;
-                    return Ok(EdgeStep::Move {
-                        to: next,
-                        edge: false,
-                    });
+                    if let Some(step) = self.transit(fine, path) {
+                        return Ok(step);
+                    }
                 }
             }
         }
+    }
+
+    /// The fill is complete. Unreachable free cells are of no use: block
+    /// them so the boundary is the reachable one. Then walk.
+    fn fill_done<const GW: usize>(&mut self, fine: &mut Grid<GW>) {
+        let (w, h) = (fine.width() as i32, fine.height() as i32);
+        let (mut free, mut reached) = (0u32, 0u32);
+        for y in 0..h {
+            for x in 0..w {
+                if fine.is_free(x, y) {
+                    free += 1;
+                    if fine.get(Layer::Known, x, y) {
+                        reached += 1;
+                    } else {
+                        let _ = fine.set_obstacle(x, y, true);
+                    }
+                }
+            }
+        }
+        self.stats.free = free;
+        self.stats.reached = reached;
+        self.visit_last(fine);
+        self.phase = Phase::Walk;
+    }
+
+    /// Marks the cell the pass stands on visited, if it was to do.
+    fn visit_last<const GW: usize>(&mut self, fine: &mut Grid<GW>) {
+        let (x, y) = self.last.xy();
+        if todo(fine, x, y) {
+            let _ = fine.set(Layer::Covered, x, y, true);
+            self.stats.visited += 1;
+        }
+    }
+
+    /// Along the contour; at its end, one grid scan for the nearest
+    /// unvisited boundary cells and a search toward them.
+    fn walk<const N: usize, const NW: usize, const OPEN: usize, const GW: usize>(
+        &mut self,
+        fine: &mut Grid<GW>,
+        search: &mut SearchState<N, NW, OPEN>,
+    ) -> Result<EdgeStep, SearchError> {
+        if let Some(next) = self.next_on_contour(fine) {
+            let (x, y) = next.xy();
+            let _ = fine.set(Layer::Covered, x, y, true);
+            self.stats.visited += 1;
+            self.dir = (x - self.last.x as i32, y - self.last.y as i32);
+            self.last = next;
+            return Ok(EdgeStep::Move {
+                to: next,
+                edge: true,
+            });
+        }
+        self.phase = Phase::Search;
+        let mut goals = [Cell::new(0, 0); EDGE_GOALS];
+        let n = self.nearest_todo(fine, &mut goals);
+        if n == 0 {
+            self.phase = Phase::Done;
+            return Ok(EdgeStep::Done);
+        }
+        search.begin(fine, self.last, goals.get(..n).unwrap_or(&[]), Algo::AStar)?;
+        self.stats.transits += 1;
+        Ok(EdgeStep::Pending)
+    }
+
+    /// The next cell of the transit path; `None` at its end (back to the
+    /// walk).
+    fn transit<const GW: usize>(&mut self, fine: &mut Grid<GW>, path: &[Cell]) -> Option<EdgeStep> {
+        let Some(&next) = path
+            .get(self.path_pos)
+            .filter(|_| self.path_pos < self.path_len)
+        else {
+            self.visit_last(fine);
+            self.dir = (0, 0);
+            self.phase = Phase::Walk;
+            return None;
+        };
+        self.path_pos += 1;
+        self.last = next;
+        Some(EdgeStep::Move {
+            to: next,
+            edge: false,
+        })
     }
 
     /// The unvisited boundary neighbour closest to straight on (ties: the

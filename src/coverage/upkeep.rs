@@ -1,0 +1,81 @@
+//! Keeping the backtracking list honest between transits: stale points
+//! dropped, unreachable goals abandoned, the completeness rescan (see the
+//! module docs of [`super`]), and the goals of the next transit.
+
+use super::cells::{self, nearest_k, uncovered};
+use super::planners::ba_star;
+use super::rules::ListRule;
+use super::Coverage;
+use crate::grid::{Cell, Grid, Layer};
+use crate::search::Algo;
+
+impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, const PCAP: usize>
+    Coverage<N, NW, OPEN, LCAP, PCAP>
+{
+    /// Drops points that became obstacles or are no longer worth visiting
+    /// under the planner's own rule.
+    pub(super) fn drop_stale<const GW: usize>(&mut self, grid: &mut Grid<GW>) {
+        // A point where the planner already stands (put back by a caller
+        // that un-covered it) is covered by standing there.
+        let (cx, cy) = self.cur.xy();
+        if uncovered(grid, cx, cy) && self.list.as_slice().contains(&self.cur) {
+            let _ = grid.set(Layer::Covered, cx, cy, true);
+        }
+        let rule = self.kind.rules().list;
+        self.list.retain(grid, |g, c| {
+            let (x, y) = c.xy();
+            !g.is_blocked(x, y)
+                && match rule {
+                    // B-OHA* points are uncovered cells.
+                    ListRule::NeighboursPrunedToCorners => !g.get(Layer::Covered, x, y),
+                    // BA* points are covered cells with uncovered neighbours,
+                    // or (fallback) uncovered cells.
+                    ListRule::RebuiltFromCovered => {
+                        !g.get(Layer::Covered, x, y) || ba_star::b(g, x, y) > 0
+                    }
+                }
+        });
+    }
+
+    pub(super) fn abandon<const GW: usize>(&mut self, grid: &Grid<GW>, c: Cell) {
+        if self.list.abandon(grid, c) {
+            self.stats.abandoned_goals += 1;
+        }
+    }
+
+    /// The completeness fallback: refills the list with the uncovered
+    /// corner cells of every uncovered region (see the module docs).
+    pub(super) fn rescan<const GW: usize>(&mut self, grid: &Grid<GW>) {
+        let (w, h) = (grid.width() as i32, grid.height() as i32);
+        let mut found = false;
+        for y in 0..h {
+            for x in 0..w {
+                if !uncovered(grid, x, y) || !cells::is_corner(grid, x, y) {
+                    continue;
+                }
+                let Some(i) = grid.index(x, y) else { continue };
+                if self.list.is_abandoned(i) {
+                    continue;
+                }
+                found = true;
+                if !self.list.push(grid, Cell::new(x as u16, y as u16)) {
+                    if found {
+                        self.stats.rescans_with_points += 1;
+                    }
+                    return; // full: the next rescan finds the rest
+                }
+            }
+        }
+        if found {
+            self.stats.rescans_with_points += 1;
+        }
+    }
+
+    /// Fills `self.goals` for the next transit and returns the search.
+    pub(super) fn choose_goals(&mut self) -> Algo {
+        let rules = self.kind.rules();
+        let k = rules.transit_goals;
+        self.goal_count = nearest_k(self.list.as_slice(), self.cur, &mut self.goals, k);
+        rules.transit
+    }
+}
