@@ -200,6 +200,7 @@ pub fn evaluate(
 
 /// Clearance beyond the radius, mm (capped), from the least squared
 /// distance in µm².
+#[inline(always)]
 fn clearance_mm(p: &DwaParams, min_d2: i64) -> i32 {
     let c = if min_d2 == i64::MAX {
         p.clearance_cap_mm as i64
@@ -213,6 +214,7 @@ fn clearance_mm(p: &DwaParams, min_d2: i64) -> i32 {
 /// Va: the robot must be able to brake to a stop before the first
 /// contact (`hit_at_um` along the arc). A disc turning on the spot sweeps
 /// nothing new, so v = 0 is always admissible.
+#[inline(always)]
 fn admissible(
     p: &DwaParams,
     v_mm_s: i32,
@@ -236,6 +238,7 @@ fn admissible(
 
 /// Heading: π minus the angle between the final heading and the goal,
 /// mrad.
+#[inline(always)]
 fn heading_term(goal: PointMm, x_um: i64, y_um: i64, th_urad: i64) -> i32 {
     let gx = goal.0 as i64 * 1000 - x_um;
     let gy = goal.1 as i64 * 1000 - y_um;

@@ -1,0 +1,131 @@
+//! Arguments and helpers the commands share.
+
+use std::path::{Path, PathBuf};
+
+use clap::ValueEnum;
+use host_sim::maps::{load_map, LoadOptions, MapData};
+use robovac::{Algo, Cell};
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum NoiseArg {
+    None,
+    Realistic,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum ModeArg {
+    Known,
+    Unknown,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum AlgoArg {
+    Astar,
+    Oha,
+    Theta,
+}
+
+impl From<AlgoArg> for Algo {
+    fn from(a: AlgoArg) -> Self {
+        match a {
+            AlgoArg::Astar => Algo::AStar,
+            AlgoArg::Oha => Algo::Oha,
+            AlgoArg::Theta => Algo::Theta,
+        }
+    }
+}
+
+#[derive(clap::Args)]
+pub struct MapArgs {
+    /// Map file: .map (MovingAI), .yaml (ROS), .png, .pgm, or ASCII.
+    #[arg(long)]
+    pub map: PathBuf,
+    /// Resample image maps to cells of this size (metres).
+    #[arg(long)]
+    pub cell: Option<f64>,
+    /// Metres per pixel of a PNG map (default 0.05).
+    #[arg(long)]
+    pub resolution: Option<f64>,
+}
+
+impl MapArgs {
+    pub fn load(&self) -> Result<MapData, String> {
+        load_map(
+            &self.map,
+            LoadOptions {
+                cell_m: self.cell,
+                png_resolution_m: self.resolution,
+            },
+        )
+        .map_err(|e| e.to_string())
+    }
+}
+
+pub fn parse_point(s: &str) -> Result<(f64, f64), String> {
+    let (x, y) = s
+        .split_once(',')
+        .ok_or_else(|| format!("{s:?} is not X,Y"))?;
+    let p = |v: &str| {
+        v.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|f| f.is_finite() && *f >= 0.0)
+            .ok_or_else(|| format!("{v:?} is not a non-negative number"))
+    };
+    Ok((p(x)?, p(y)?))
+}
+
+pub fn parse_cell(s: &str) -> Result<Cell, String> {
+    let (x, y) = s
+        .split_once(',')
+        .ok_or_else(|| format!("{s:?} is not X,Y"))?;
+    let x: u16 = x
+        .trim()
+        .parse()
+        .map_err(|_| format!("{x:?} is not a cell column"))?;
+    let y: u16 = y
+        .trim()
+        .parse()
+        .map_err(|_| format!("{y:?} is not a cell row"))?;
+    Ok(Cell::new(x, y))
+}
+
+pub fn write_file(path: &Path, text: &str) -> Result<(), String> {
+    std::fs::write(path, text).map_err(|e| format!("{}: cannot write: {e}", path.display()))
+}
+
+impl From<NoiseArg> for host_sim::robot::Noise {
+    fn from(n: NoiseArg) -> Self {
+        match n {
+            NoiseArg::None => host_sim::robot::Noise::None,
+            NoiseArg::Realistic => host_sim::robot::Noise::Realistic,
+        }
+    }
+}
+
+/// A floor for the simulated world: images keep their own resolution (PNG,
+/// PGM, ROS YAML); ASCII and MovingAI maps take --cell (default 0.1 m).
+pub fn load_world_map(args: &MapArgs) -> Result<(MapData, f64), String> {
+    let map = load_map(
+        &args.map,
+        LoadOptions {
+            cell_m: None,
+            png_resolution_m: args.resolution,
+        },
+    )
+    .map_err(|e| e.to_string())?;
+    let cell_m = map.cell_m.or(args.cell).unwrap_or(0.1);
+    if !(cell_m.is_finite() && cell_m > 0.0) {
+        return Err("--cell must be a positive number of metres".into());
+    }
+    Ok((map, cell_m))
+}
+
+impl From<ModeArg> for robovac::mission::MapMode {
+    fn from(m: ModeArg) -> Self {
+        match m {
+            ModeArg::Known => robovac::mission::MapMode::Known,
+            ModeArg::Unknown => robovac::mission::MapMode::Unknown,
+        }
+    }
+}

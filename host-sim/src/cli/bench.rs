@@ -1,0 +1,554 @@
+//! `host-sim bench`: the papers' tables, the mission suite and the wheel
+//! step response.
+
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use super::args::write_file;
+use serde_json::json;
+
+/// Which benchmark.
+#[derive(clap::Subcommand)]
+pub enum BenchCmd {
+    /// Seed 000 Table 1: A*, Theta*, OHA* on random 100x50 maps.
+    Table1 {
+        #[arg(long, default_value_t = 500)]
+        runs: usize,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Share of blocked cells, percent (default: the calibrated 20).
+        #[arg(long, default_value_t = robovac::grid::maps::TABLE1_MAP.density_pct)]
+        density: u32,
+        /// Side of the corner squares starts and goals are drawn from.
+        #[arg(long, default_value_t = robovac::grid::maps::TABLE1_CORNER)]
+        corner: u32,
+        /// Print one JSON object.
+        #[arg(long)]
+        json: bool,
+    },
+    /// The mission suite: studio, multi-room flat and office; known and unknown maps; 0, 1 and 3 people; both noise levels.
+    Missions {
+        /// Seeds per configuration (36 configurations).
+        #[arg(long, default_value_t = 3)]
+        runs: usize,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Simulated time limit per mission, seconds.
+        #[arg(long, default_value_t = 5400.0)]
+        max_time: f64,
+        /// Worker threads (default: the machine's cores).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Write every mission's results as JSON.
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
+    /// Wheel speed step response to 0.3 m/s (rise time, overshoot, steady-state error).
+    WheelStep {
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+    },
+    /// Seed 000 Table 2: BA*, B-Theta*, B-OHA* and ours on random 50x30 and 30x50 maps.
+    Table2 {
+        #[arg(long, default_value_t = 500)]
+        runs: usize,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Share of blocked cells, percent.
+        #[arg(long, default_value_t = robovac::grid::maps::TABLE2_MAP.density_pct)]
+        density: u32,
+        /// Largest obstacle side, cells.
+        #[arg(long, default_value_t = robovac::grid::maps::TABLE2_MAP.max_side)]
+        max_side: u32,
+        /// Write the results as JSON to this file.
+        #[arg(long)]
+        json: Option<PathBuf>,
+        /// Write an SVG of every planner's plan on the first maps here.
+        #[arg(long)]
+        svg_dir: Option<PathBuf>,
+    },
+}
+
+/// Runs the benchmark.
+pub fn run(which: BenchCmd) -> Result<(), String> {
+    match which {
+        BenchCmd::Table1 {
+            runs,
+            seed,
+            density,
+            corner,
+            json,
+        } => cmd_table1(runs, seed, density, corner, json),
+        BenchCmd::Table2 {
+            runs,
+            seed,
+            density,
+            max_side,
+            json,
+            svg_dir,
+        } => cmd_table2(
+            runs,
+            seed,
+            density,
+            max_side,
+            json.as_deref(),
+            svg_dir.as_deref(),
+        ),
+        BenchCmd::Missions {
+            runs,
+            seed,
+            max_time,
+            threads,
+            json,
+        } => cmd_bench_missions(runs, seed, max_time, threads, json.as_deref()),
+        BenchCmd::WheelStep { seed } => cmd_wheel_step(seed),
+    }
+}
+
+fn cmd_table1(runs: usize, seed: u64, density: u32, corner: u32, json: bool) -> Result<(), String> {
+    if runs == 0 {
+        return Err("--runs must be at least 1".into());
+    }
+    if density > 60 {
+        return Err("--density above 60 % leaves almost no reachable pairs".into());
+    }
+    let map = robovac::grid::maps::RandomMap {
+        density_pct: density,
+        ..robovac::grid::maps::TABLE1_MAP
+    };
+    let rows = host_sim::bench::table1(runs, seed, map, corner, |done, total| {
+        if !json && std::io::stderr().is_terminal() && (done % 10 == 0 || done == total) {
+            let w = 40 * done / total;
+            eprint!("\r[{}{}] {done}/{total}", "#".repeat(w), " ".repeat(40 - w));
+            let _ = std::io::stderr().flush();
+            if done == total {
+                eprintln!();
+            }
+        }
+    });
+    if json {
+        let mut obj = serde_json::Map::new();
+        obj.insert("runs".into(), json!(runs));
+        obj.insert("seed".into(), json!(seed));
+        obj.insert("density_pct".into(), json!(density));
+        obj.insert("corner".into(), json!(corner));
+        for r in &rows {
+            obj.insert(
+                r.algo.into(),
+                json!({
+                    "mean_time_us": r.mean_time_us,
+                    "mean_cost": r.mean_cost,
+                    "mean_cost_unpruned": r.mean_cost_unpruned,
+                    "mean_cost_pruned": r.mean_cost_pruned,
+                    "mean_nodes": r.mean_nodes,
+                    "paper": {"time_s": r.paper.0, "cost": r.paper.1, "nodes": r.paper.2},
+                }),
+            );
+        }
+        println!("{}", serde_json::Value::Object(obj));
+    } else {
+        println!("Seed 000 Table 1: {runs} random 100x50 maps ({density}% blocked, corner {corner}), seed {seed}");
+        println!(
+            "{:<7} {:>12} {:>10} | {:>10} {:>10} {:>10} | {:>10} {:>10}",
+            "algo", "ours us", "paper s", "ours cost", "pruned", "paper", "ours nodes", "paper"
+        );
+        for r in &rows {
+            println!(
+                "{:<7} {:>12.1} {:>10.2} | {:>10.2} {:>10.2} {:>10.2} | {:>10.1} {:>10.2}",
+                r.algo,
+                r.mean_time_us,
+                r.paper.0,
+                r.mean_cost,
+                r.mean_cost_pruned,
+                r.paper.1,
+                r.mean_nodes,
+                r.paper.2
+            );
+        }
+        println!("cost = A* unpruned 8-connected, Theta* any-angle, OHA* after pruning (as in the paper)");
+        if let (Some(a), Some(o)) = (
+            rows.iter().find(|r| r.algo == "astar"),
+            rows.iter().find(|r| r.algo == "oha"),
+        ) {
+            println!(
+                "OHA*/A* nodes {:.3} (paper {:.3}); OHA* pruned cost / A* cost {:.4} (paper {:.4})",
+                o.mean_nodes / a.mean_nodes,
+                659.45 / 1267.55,
+                o.mean_cost / a.mean_cost,
+                115.78 / 120.94
+            );
+        }
+    }
+    Ok(())
+}
+
+fn cmd_table2(
+    runs: usize,
+    seed: u64,
+    density: u32,
+    max_side: u32,
+    json: Option<&Path>,
+    svg_dir: Option<&Path>,
+) -> Result<(), String> {
+    use host_sim::bench::paper_table2;
+    if runs == 0 {
+        return Err("--runs must be at least 1".into());
+    }
+    if density > 60 || max_side == 0 {
+        return Err("--density must be at most 60 and --max-side at least 1".into());
+    }
+    if let Some(d) = svg_dir {
+        std::fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
+    }
+    let spec = robovac::grid::maps::RandomMap {
+        density_pct: density,
+        max_side,
+        ..robovac::grid::maps::TABLE2_MAP
+    };
+    let mut svg_err = None;
+    let tty = std::io::stderr().is_terminal();
+    let rows = host_sim::bench::table2(
+        runs,
+        seed,
+        spec,
+        |label, run, map, p| {
+            if let Some(d) = svg_dir {
+                if run < 3 {
+                    let f = d.join(format!("table2_{label}_{run}_{}.svg", p.kind.name()));
+                    if let Err(e) = write_file(
+                        &f,
+                        &host_sim::svg::plan_svg(map, p, &format!("Table 2 {label} map {run}")),
+                    ) {
+                        svg_err = Some(e);
+                    }
+                }
+            }
+        },
+        |done, total| {
+            if done % 10 == 0 || done == total {
+                let w = 40 * done / total;
+                if tty {
+                    eprint!(
+                        "\r[{}{}] {done}/{total} maps",
+                        "#".repeat(w),
+                        " ".repeat(40 - w)
+                    );
+                    if done == total {
+                        eprintln!();
+                    }
+                } else if done % (total / 4).max(1) == 0 || done == total {
+                    eprintln!(
+                        "[{}{}] {done}/{total} maps",
+                        "#".repeat(w),
+                        " ".repeat(40 - w)
+                    );
+                }
+                let _ = std::io::stderr().flush();
+            }
+        },
+    )?;
+    if let Some(e) = svg_err {
+        return Err(e);
+    }
+    println!("Seed 000 Table 2: {runs} random maps per size ({density}% blocked, rectangles up to {max_side} cells), seed {seed}");
+    let metrics = [
+        "coverage_path_length",
+        "segments",
+        "turns",
+        "backtrack_path_length",
+        "backtrack_points_total",
+        "time_us",
+        "coverage",
+        "repetition",
+        "total_path_length",
+        "rotation_deg",
+        "nodes_expanded",
+        "backtrack_points_kept",
+    ];
+    for (label, _, _) in host_sim::bench::TABLE2_SIZES {
+        let wide = label == "30x50";
+        println!(
+            "\n{label} ({})",
+            if wide {
+                "wide: 30 rows x 50 columns"
+            } else {
+                "tall: 50 rows x 30 columns"
+            }
+        );
+        print!("{:<24}", "metric");
+        for (l, k, _) in rows.iter().filter(|r| r.0 == label) {
+            let _ = l;
+            print!(" {:>10} {:>9}", k.name(), "paper");
+        }
+        println!();
+        for m in metrics {
+            print!("{m:<24}");
+            for (_, k, agg) in rows.iter().filter(|r| r.0 == label) {
+                let ours = agg.mean(m);
+                let paper = if m == "time_us" {
+                    paper_table2("time_s", *k, wide).map(|s| s * 1e6)
+                } else {
+                    paper_table2(m, *k, wide)
+                };
+                match paper {
+                    Some(pv) => print!(" {ours:>10.2} {pv:>9.2}"),
+                    None => print!(" {ours:>10.2} {:>9}", "-"),
+                }
+            }
+            println!();
+        }
+        print!("{:<24}", "min coverage");
+        for (_, _, agg) in rows.iter().filter(|r| r.0 == label) {
+            print!(" {:>10.4} {:>9}", agg.min_coverage, "");
+        }
+        println!();
+    }
+    // The paper's claims, as measured ratios against our BA*.
+    println!("\nratios against our BA* on the same maps (paper in brackets):");
+    for (label, _, _) in host_sim::bench::TABLE2_SIZES {
+        let get = |k: robovac::coverage::PlannerKind, m: &str| {
+            rows.iter()
+                .find(|r| r.0 == label && r.1 == k)
+                .map(|r| r.2.mean(m))
+                .unwrap_or(0.0)
+        };
+        use robovac::coverage::PlannerKind::*;
+        for (m, paper) in [
+            ("segments", "-19%"),
+            ("backtrack_points_total", "-81%"),
+            ("backtrack_points_kept", "-81%"),
+            ("backtrack_path_length", "-10%"),
+            ("turns", if label == "30x50" { "-15%" } else { "" }),
+        ] {
+            let ba = get(BaStar, m);
+            let rel = |k| {
+                if ba > 0.0 {
+                    100.0 * (get(k, m) / ba - 1.0)
+                } else {
+                    0.0
+                }
+            };
+            println!(
+                "  {label} {m:<24} B-OHA* {:+6.1}% [{paper:>4}]   B-Theta* {:+6.1}%   ours {:+6.1}%",
+                rel(BOha),
+                rel(BTheta),
+                rel(BOhaPc)
+            );
+        }
+        let bo = get(BOha, "backtrack_path_length");
+        let ours = get(BOhaPc, "backtrack_path_length");
+        println!(
+            "  {label} ours vs B-OHA*: backtracking path x{:.3}, turns x{:.3}",
+            if bo > 0.0 { ours / bo } else { 0.0 },
+            get(BOhaPc, "turns") / get(BOha, "turns").max(1e-9)
+        );
+    }
+    if let Some(f) = json {
+        let mut obj = serde_json::Map::new();
+        obj.insert("runs".into(), json!(runs));
+        obj.insert("seed".into(), json!(seed));
+        obj.insert("density_pct".into(), json!(density));
+        obj.insert("max_side".into(), json!(max_side));
+        for (label, k, agg) in &rows {
+            let mut means = serde_json::Map::new();
+            for (m, _) in agg.sums.iter() {
+                means.insert((*m).to_string(), json!(agg.mean(m)));
+            }
+            let mut t = agg.times_us.clone();
+            means.insert(
+                "median_time_us".into(),
+                json!(host_sim::metrics::median(&mut t)),
+            );
+            means.insert("min_coverage".into(), json!(agg.min_coverage));
+            let entry = obj.entry(label.to_string()).or_insert_with(|| json!({}));
+            if let Some(e) = entry.as_object_mut() {
+                e.insert(k.name().into(), serde_json::Value::Object(means));
+            }
+        }
+        write_file(f, &serde_json::Value::Object(obj).to_string())?;
+    }
+    Ok(())
+}
+
+/// `host-sim bench missions`.
+fn cmd_bench_missions(
+    runs: usize,
+    seed: u64,
+    max_time: f64,
+    threads: Option<usize>,
+    json: Option<&Path>,
+) -> Result<(), String> {
+    use host_sim::mission::{report_json, run_suite, suite_cases};
+    if runs == 0 {
+        return Err("--runs must be at least 1".into());
+    }
+    if !(max_time.is_finite() && max_time > 0.0) {
+        return Err("--max-time must be a positive number of seconds".into());
+    }
+    let cases = suite_cases(runs, seed);
+    let threads = threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+        .max(1);
+    let tty = std::io::stderr().is_terminal();
+    let t0 = Instant::now();
+    let results = run_suite(&cases, max_time, threads, |done, total| {
+        let w = 40 * done / total;
+        let line = format!(
+            "[{}{}] {done}/{total} missions, {:.0} s",
+            "#".repeat(w),
+            " ".repeat(40 - w),
+            t0.elapsed().as_secs_f64()
+        );
+        if tty {
+            eprint!("\r{line}");
+            if done == total {
+                eprintln!();
+            }
+        } else if done % (total / 10).max(1) == 0 || done == total {
+            eprintln!("{line}");
+        }
+        let _ = std::io::stderr().flush();
+    });
+    let wall = t0.elapsed().as_secs_f64();
+    let mut rows = Vec::new();
+    let mut failures = Vec::new();
+    for (c, r) in cases.iter().zip(&results) {
+        match r {
+            Ok(rep) => rows.push((c, rep)),
+            Err(e) => failures.push(format!(
+                "{} {:?} {} people seed {}: {e}",
+                c.map, c.mode, c.people, c.seed
+            )),
+        }
+    }
+    println!(
+        "Mission suite: {} missions ({} seeds per configuration), {:.0} s wall on {threads} threads",
+        cases.len(),
+        runs,
+        wall
+    );
+    println!(
+        "{:<7} {:<8} {:<10} {:>3} {:>8} {:>8} {:>9} {:>9} {:>6} {:>5} {:>6} {:>6} {:>7} {:>7}",
+        "map",
+        "mode",
+        "noise",
+        "n",
+        "finished",
+        "returned",
+        "cover avg",
+        "cover min",
+        "repet",
+        "coll",
+        "people",
+        "avoid",
+        "t/ideal",
+        "sim×"
+    );
+    let mut groups: Vec<(String, String, String)> = Vec::new();
+    for (c, _) in &rows {
+        let k = (
+            c.map.to_string(),
+            format!("{:?}", c.mode).to_lowercase(),
+            format!("{:?}", c.noise).to_lowercase(),
+        );
+        if !groups.contains(&k) {
+            groups.push(k);
+        }
+    }
+    for g in &groups {
+        let sel: Vec<&host_sim::mission::MissionReport> = rows
+            .iter()
+            .filter(|(c, _)| {
+                c.map == g.0
+                    && format!("{:?}", c.mode).to_lowercase() == g.1
+                    && format!("{:?}", c.noise).to_lowercase() == g.2
+            })
+            .map(|(_, r)| *r)
+            .collect();
+        let n = sel.len() as f64;
+        let mean = |f: &dyn Fn(&host_sim::mission::MissionReport) -> f64| {
+            sel.iter().map(|r| f(r)).sum::<f64>() / n
+        };
+        println!(
+            "{:<7} {:<8} {:<10} {:>3} {:>8} {:>8} {:>8.2}% {:>8.2}% {:>6.2} {:>5} {:>6} {:>6.1} {:>7.2} {:>7.0}",
+            g.0,
+            g.1,
+            g.2,
+            sel.len(),
+            sel.iter().filter(|r| r.finished).count(),
+            sel.iter().filter(|r| r.returned_to_start).count(),
+            100.0 * mean(&|r| r.coverage),
+            100.0 * sel.iter().map(|r| r.coverage).fold(1.0, f64::min),
+            mean(&|r| r.repetition),
+            sel.iter().map(|r| r.collisions).sum::<usize>(),
+            sel.iter().map(|r| r.person_contacts).sum::<usize>(),
+            mean(&|r| r.avoidance_events as f64),
+            mean(&|r| r.sim_time_s / r.ideal_time_s.max(1e-9)),
+            mean(&|r| r.sim_time_s / r.wall_time_s.max(1e-9)),
+        );
+    }
+    let total_coll: usize = rows.iter().map(|(_, r)| r.collisions).sum();
+    println!(
+        "collisions (the robot moving into something): {total_coll} over {} missions",
+        rows.len()
+    );
+    for (mode, label) in [
+        (robovac::mission::MapMode::Known, "known"),
+        (robovac::mission::MapMode::Unknown, "unknown"),
+    ] {
+        let sel: Vec<_> = rows
+            .iter()
+            .filter(|(c, _)| c.mode == mode && c.noise == host_sim::robot::Noise::None)
+            .collect();
+        if sel.is_empty() {
+            continue;
+        }
+        println!(
+            "noise none, {label} map: coverage min {:.2} %, mean {:.2} %; finished {}/{}; back at the start {}/{}",
+            100.0 * sel.iter().map(|(_, r)| r.coverage).fold(1.0, f64::min),
+            100.0 * sel.iter().map(|(_, r)| r.coverage).sum::<f64>() / sel.len() as f64,
+            sel.iter().filter(|(_, r)| r.finished).count(),
+            sel.len(),
+            sel.iter().filter(|(_, r)| r.returned_to_start).count(),
+            sel.len()
+        );
+    }
+    let sim: f64 = rows.iter().map(|(_, r)| r.sim_time_s).sum();
+    let wall_sum: f64 = rows.iter().map(|(_, r)| r.wall_time_s).sum();
+    println!("simulator speed: {:.0} simulated seconds per wall second per thread ({:.0} s simulated in all)", sim / wall_sum.max(1e-9), sim);
+    for f in &failures {
+        println!("error: {f}");
+    }
+    if let Some(f) = json {
+        let arr: Vec<serde_json::Value> = rows
+            .iter()
+            .map(|(c, r)| {
+                let mut v = report_json(r);
+                v["map"] = json!(c.map);
+                v["mode"] = json!(format!("{:?}", c.mode).to_lowercase());
+                v["people"] = json!(c.people);
+                v["noise"] = json!(format!("{:?}", c.noise).to_lowercase());
+                v["seed"] = json!(c.seed);
+                v
+            })
+            .collect();
+        write_file(f, &serde_json::Value::Array(arr).to_string())?;
+    }
+    if !failures.is_empty() {
+        return Err(format!("{} missions could not run", failures.len()));
+    }
+    Ok(())
+}
+
+/// `bench wheel-step`.
+fn cmd_wheel_step(seed: u64) -> Result<(), String> {
+    for (name, n) in [
+        ("none", host_sim::robot::Noise::None),
+        ("realistic", host_sim::robot::Noise::Realistic),
+    ] {
+        let (rise, over, ss) = host_sim::drive::step_response(n, 0.3, seed);
+        println!("wheel step 0 -> 0.3 m/s, noise {name:<9}: rise time (10-90 %) {:.0} ms, overshoot {:.1} %, steady-state error {:.2} %", rise * 1e3, over * 100.0, ss * 100.0);
+    }
+    Ok(())
+}

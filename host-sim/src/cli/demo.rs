@@ -1,0 +1,67 @@
+//! `host-sim demo`: the product at work.
+
+use std::io::{IsTerminal, Write};
+use std::path::Path;
+
+use super::args::write_file;
+
+/// Runs the command.
+pub fn run() -> Result<(), String> {
+    cmd_demo()
+}
+
+/// `host-sim demo`: the product at work.
+fn cmd_demo() -> Result<(), String> {
+    use host_sim::mission::{mission_svg, run_mission, suite_map, summary, MissionOptions};
+    let map = suite_map("home")?;
+    let opts = MissionOptions {
+        map,
+        cell_m: 0.1,
+        mode: robovac::mission::MapMode::Known,
+        people: 2,
+        noise: host_sim::robot::Noise::None,
+        seed: 1,
+        max_time_s: 5400.0,
+        start: None,
+        kind: robovac::coverage::PlannerKind::BOha,
+        lidar_gap_s: None,
+    };
+    println!(
+        "robovac demo: the firmware's mission executive cleans a 9.6 m × 7.2 m furnished flat"
+    );
+    println!(
+        "(living room, kitchen, hallway, two bedrooms, bathroom) while two people walk about."
+    );
+    let tty = std::io::stdout().is_terminal();
+    let (rep, trace, floor) = run_mission(&opts, |t, state, cov| {
+        if tty {
+            print!(
+                "\r  {t:>6.0} s simulated · {state:?} · {:.1} % of the floor swept      ",
+                100.0 * cov
+            );
+        } else if (t as u64).is_multiple_of(300) {
+            println!(
+                "  {t:>6.0} s simulated · {state:?} · {:.1} % of the floor swept",
+                100.0 * cov
+            );
+        }
+        let _ = std::io::stdout().flush();
+    })?;
+    if tty {
+        println!();
+    }
+    println!("  {}", summary(&rep));
+    let svg = mission_svg(
+        &opts.map,
+        opts.cell_m,
+        &floor,
+        &trace,
+        &rep,
+        "robovac demo: known map, two people walking, ideal sensors",
+    );
+    write_file(Path::new("demo.svg"), &svg)?;
+    println!(
+        "  picture: demo.svg (swept floor green, missed red, the robot's path blue, people orange)"
+    );
+    Ok(())
+}

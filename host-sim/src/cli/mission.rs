@@ -1,0 +1,123 @@
+//! `host-sim mission`: a whole cleaning mission in closed loop.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+
+use super::args::{load_world_map, parse_point, write_file, MapArgs, ModeArg, NoiseArg};
+
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    pub map: MapArgs,
+    /// known (a prior map is given) or unknown (mapped while cleaning).
+    #[arg(long, value_enum, default_value = "known")]
+    pub mode: ModeArg,
+    /// People walking about.
+    #[arg(long, default_value_t = 0)]
+    pub people: usize,
+    #[arg(long, value_enum, default_value = "none")]
+    pub noise: NoiseArg,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Simulated time limit, seconds.
+    #[arg(long, default_value_t = 7200.0)]
+    pub max_time: f64,
+    /// The dock X,Y in metres (default: a free spot near the centre).
+    #[arg(long, value_parser = parse_point)]
+    pub start: Option<(f64, f64)>,
+    /// b-oha, ba, b-theta or b-oha-pc (ours).
+    #[arg(long, default_value = "b-oha")]
+    pub planner: String,
+    /// Silence the lidar from A to B seconds (A,B) to exercise the fault.
+    #[arg(long, value_parser = parse_point)]
+    pub lidar_gap: Option<(f64, f64)>,
+    /// Write the measurements as JSON.
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+    /// Write a picture of the mission.
+    #[arg(long)]
+    pub svg: Option<PathBuf>,
+}
+
+/// Runs the command.
+pub fn run(a: Args) -> Result<(), String> {
+    let Args {
+        map,
+        mode,
+        people,
+        noise,
+        seed,
+        max_time,
+        start,
+        planner,
+        lidar_gap,
+        json,
+        svg,
+    } = a;
+    let kind = host_sim::plan::planner_by_name(&planner)
+        .ok_or_else(|| format!("unknown planner {planner:?}"))?;
+    if !(max_time.is_finite() && max_time > 0.0) {
+        return Err("--max-time must be a positive number of seconds".into());
+    }
+    let (data, cell_m) = load_world_map(&map)?;
+    let opts = host_sim::mission::MissionOptions {
+        map: data,
+        cell_m,
+        mode: mode.into(),
+        people,
+        noise: noise.into(),
+        seed,
+        max_time_s: max_time,
+        start,
+        kind,
+        lidar_gap_s: lidar_gap,
+    };
+    cmd_mission(
+        &opts,
+        &map.map.display().to_string(),
+        json.as_deref(),
+        svg.as_deref(),
+    )
+}
+
+/// Runs one mission with a progress line on a terminal.
+fn cmd_mission(
+    opts: &host_sim::mission::MissionOptions,
+    name: &str,
+    json: Option<&Path>,
+    svg: Option<&Path>,
+) -> Result<(), String> {
+    use host_sim::mission::{mission_svg, report_json, run_mission, summary};
+    let tty = std::io::stderr().is_terminal();
+    let (rep, trace, floor) = run_mission(opts, |t, state, cov| {
+        if tty {
+            eprint!(
+                "\r  {t:>6.0} s simulated · {state:?} · {:.1} % swept      ",
+                100.0 * cov
+            );
+        }
+    })
+    .map_err(|e| format!("{name}: {e}"))?;
+    if tty {
+        eprintln!();
+    }
+    println!(
+        "mission on {name} ({:?} map, {} people, seed {}):",
+        opts.mode, opts.people, opts.seed
+    );
+    println!("  {}", summary(&rep));
+    if let Some(f) = json {
+        write_file(f, &report_json(&rep).to_string())?;
+    }
+    if let Some(f) = svg {
+        let title = format!(
+            "mission on {name}: {:?} map, {} people, noise {:?}, seed {}",
+            opts.mode, opts.people, opts.noise, opts.seed
+        );
+        write_file(
+            f,
+            &mission_svg(&opts.map, opts.cell_m, &floor, &trace, &rep, &title),
+        )?;
+    }
+    Ok(())
+}
