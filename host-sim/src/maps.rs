@@ -447,33 +447,49 @@ pub fn decode_pgm(path: &Path, bytes: &[u8], th: &RosThresholds) -> Result<GreyI
     })
 }
 
+/// The keys of a ROS map_server YAML that the loader reads (others, such
+/// as `origin` and `mode`, are ignored). Numbers are read as YAML values so
+/// a bad one gets a message naming its key.
+#[derive(serde::Deserialize)]
+struct RosYaml {
+    image: Option<String>,
+    resolution: Option<serde_norway::Value>,
+    negate: Option<serde_norway::Value>,
+    occupied_thresh: Option<serde_norway::Value>,
+    free_thresh: Option<serde_norway::Value>,
+}
+
 /// Loads a ROS map_server YAML and the PGM (or PNG) it names.
 pub fn load_ros_yaml(path: &Path, bytes: &[u8], opts: LoadOptions) -> Result<MapData, MapError> {
     let t = text(path, bytes)?;
-    let mut image = None;
-    let mut resolution = None;
-    let mut th = RosThresholds::default();
-    for line in t.lines() {
-        let line = line.split('#').next().unwrap_or("").trim();
-        let Some((k, v)) = line.split_once(':') else {
-            continue;
-        };
-        let v = v.trim().trim_matches(|c| c == '"' || c == '\'');
-        let f = |v: &str, k: &str| -> Result<f64, MapError> {
-            v.parse::<f64>()
-                .ok()
-                .filter(|x| x.is_finite())
-                .map_or_else(|| err(path, format!("{k}: {v:?} is not a number")), Ok)
-        };
-        match k.trim() {
-            "image" => image = Some(v.to_string()),
-            "resolution" => resolution = Some(f(v, "resolution")?),
-            "negate" => th.negate = matches!(v, "1" | "true" | "True"),
-            "occupied_thresh" => th.occupied_thresh = f(v, "occupied_thresh")?,
-            "free_thresh" => th.free_thresh = f(v, "free_thresh")?,
-            _ => {}
+    let y: RosYaml = match serde_norway::from_str(t) {
+        Ok(y) => y,
+        Err(e) => {
+            return err(
+                path,
+                format!("not a ROS map YAML: {}", one_line(&e.to_string())),
+            )
         }
+    };
+    let num = |v: &Option<serde_norway::Value>, k: &str| -> Result<Option<f64>, MapError> {
+        match v {
+            None => Ok(None),
+            Some(v) => v.as_f64().filter(|x| x.is_finite()).map_or_else(
+                || err(path, format!("{k}: {v:?} is not a number")),
+                |x| Ok(Some(x)),
+            ),
+        }
+    };
+    let resolution = num(&y.resolution, "resolution")?;
+    let mut th = RosThresholds::default();
+    th.negate = matches!(&y.negate, Some(v) if v.as_bool() == Some(true) || v.as_i64() == Some(1));
+    if let Some(v) = num(&y.occupied_thresh, "occupied_thresh")? {
+        th.occupied_thresh = v;
     }
+    if let Some(v) = num(&y.free_thresh, "free_thresh")? {
+        th.free_thresh = v;
+    }
+    let image = y.image;
     let Some(image) = image else {
         return err(path, "ROS map YAML has no 'image' key");
     };
@@ -548,4 +564,9 @@ pub fn resample(
         blocked,
         cell_m: Some(k as f64 * res_m),
     })
+}
+
+/// A message on one line (YAML errors span several).
+fn one_line(s: &str) -> String {
+    s.split_whitespace().collect::<Vec<_>>().join(" ")
 }

@@ -48,8 +48,9 @@ pub struct MissionOptions {
     pub lidar_gap_s: Option<(f64, f64)>,
 }
 
-/// What a mission measured.
-#[derive(Clone, Debug, Default)]
+/// What a mission measured (its JSON: these fields, plus `sim_speed` and
+/// `time_vs_ideal`; see [`report_json`]).
+#[derive(Clone, Debug, Default, serde::Serialize)]
 pub struct MissionReport {
     /// The executive reached Done.
     pub finished: bool,
@@ -85,8 +86,10 @@ pub struct MissionReport {
     /// The final state.
     pub final_state: String,
     /// Faults and events: (name, count).
+    #[serde(serialize_with = "faults_json")]
     pub faults: Vec<(String, u64)>,
     /// The executive's counters.
+    #[serde(serialize_with = "counters_json")]
     pub counters: robovac::mission::Counters,
     /// Odometry error at the end, mm.
     pub odometry_error_mm: f64,
@@ -107,6 +110,8 @@ pub struct MissionTrace {
     pub collisions: Vec<((f64, f64), bool)>,
     /// Start, m.
     pub start: (f64, f64),
+    /// The executive's events, in order.
+    pub events: Vec<robovac::mission::Event>,
 }
 
 /// A free spot for the dock near the map's centre (the body plus 5 cm fits).
@@ -297,6 +302,9 @@ pub fn run_mission(
             MotorCmd::Duty(a, b) => sim.set_duty(a, b),
             MotorCmd::Brake => sim.brake(),
         }
+        while let Some(e) = mission.pop_event() {
+            trace.events.push(e);
+        }
         if trace_on && sim.collisions.len() > seen_collisions {
             seen_collisions = sim.collisions.len();
             if let Some(c) = sim.collisions.last() {
@@ -446,41 +454,59 @@ pub fn run_mission(
 
 /// The report as JSON.
 pub fn report_json(rep: &MissionReport) -> serde_json::Value {
-    let c = &rep.counters;
-    serde_json::json!({
-        "finished": rep.finished,
-        "returned_to_start": rep.returned_to_start,
-        "coverage": rep.coverage,
-        "repetition": rep.repetition,
-        "collisions": rep.collisions,
-        "person_contacts": rep.person_contacts,
-        "min_clearance_m": rep.min_clearance_m,
-        "min_wall_clearance_m": rep.min_wall_clearance_m,
-        "distance_m": rep.distance_m,
-        "avoidance_events": rep.avoidance_events,
-        "sim_time_s": rep.sim_time_s,
-        "wall_time_s": rep.wall_time_s,
-        "sim_speed": rep.sim_time_s / rep.wall_time_s.max(1e-9),
-        "ideal_time_s": rep.ideal_time_s,
-        "time_vs_ideal": rep.sim_time_s / rep.ideal_time_s.max(1e-9),
-        "floor_m2": rep.floor_m2,
-        "floor_time_s": rep.floor_time_s,
-        "final_state": rep.final_state,
-        "odometry_error_mm": rep.odometry_error_mm,
-        "state_time_s": rep.state_time_s,
-        "faults": rep.faults.iter().map(|(k, v)| (k.clone(), serde_json::json!(v))).collect::<serde_json::Map<_, _>>(),
-        "counters": {
-            "dwa_no_admissible": c.dwa_no_admissible,
-            "detours": c.detours,
-            "replans": c.replans,
-            "guard_ticks": c.guard_ticks,
-            "escape_ticks": c.escapes,
-            "abandoned_retries": c.abandoned_retries,
-            "retried": c.retried,
-            "scans": c.scans,
-            "plan_steps": c.plan_steps,
+    let mut v = serde_json::to_value(rep).unwrap_or_default();
+    v["sim_speed"] = serde_json::json!(rep.sim_time_s / rep.wall_time_s.max(1e-9));
+    v["time_vs_ideal"] = serde_json::json!(rep.sim_time_s / rep.ideal_time_s.max(1e-9));
+    v
+}
+
+/// The executive's events as JSON: time (s) and what happened.
+pub fn events_json(events: &[robovac::mission::Event]) -> serde_json::Value {
+    let list: Vec<_> = events
+        .iter()
+        .map(
+            |e| serde_json::json!({"t_s": e.at_us as f64 * 1e-6, "event": format!("{:?}", e.kind)}),
+        )
+        .collect();
+    serde_json::Value::Array(list)
+}
+
+/// The counters the report shows (names as in the JSON).
+#[derive(serde::Serialize)]
+struct CountersJson {
+    dwa_no_admissible: u32,
+    detours: u32,
+    replans: u32,
+    guard_ticks: u32,
+    escape_ticks: u32,
+    abandoned_retries: u32,
+    retried: u32,
+    scans: u32,
+    plan_steps: u32,
+}
+
+fn counters_json<S: serde::Serializer>(
+    c: &robovac::mission::Counters,
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    serde::Serialize::serialize(
+        &CountersJson {
+            dwa_no_admissible: c.dwa_no_admissible,
+            detours: c.detours,
+            replans: c.replans,
+            guard_ticks: c.guard_ticks,
+            escape_ticks: c.escapes,
+            abandoned_retries: c.abandoned_retries,
+            retried: c.retried,
+            scans: c.scans,
+            plan_steps: c.plan_steps,
         },
-    })
+        s,
+    )
+}
+
+fn faults_json<S: serde::Serializer>(f: &[(String, u64)], s: S) -> Result<S::Ok, S::Error> {
+    s.collect_map(f.iter().map(|(k, v)| (k, v)))
 }
 
 /// One line of summary.
@@ -705,7 +731,8 @@ pub fn suite_cases(runs: usize, seed: u64) -> Vec<SuiteCase> {
     v
 }
 
-/// Runs the suite on `threads` threads; `progress(done, total)` after each
+/// Runs the suite on a rayon pool of `threads` threads; `progress(done,
+/// total)` after each
 /// mission. Results in case order.
 pub fn run_suite(
     cases: &[SuiteCase],
@@ -713,45 +740,36 @@ pub fn run_suite(
     threads: usize,
     progress: impl Fn(usize, usize) + Sync,
 ) -> Vec<Result<MissionReport, String>> {
+    use rayon::prelude::*;
     use std::sync::atomic::{AtomicUsize, Ordering};
-    use std::sync::Mutex;
-    let next = AtomicUsize::new(0);
     let done = AtomicUsize::new(0);
-    let out: Mutex<Vec<Option<Result<MissionReport, String>>>> =
-        Mutex::new(vec![None; cases.len()]);
-    std::thread::scope(|s| {
-        for _ in 0..threads.max(1) {
-            s.spawn(|| loop {
-                let i = next.fetch_add(1, Ordering::SeqCst);
-                let Some(c) = cases.get(i) else { break };
-                let r = suite_map(c.map).and_then(|map| {
-                    let opts = MissionOptions {
-                        map,
-                        cell_m: 0.1,
-                        mode: c.mode,
-                        people: c.people,
-                        noise: c.noise,
-                        seed: c.seed,
-                        max_time_s,
-                        start: None,
-                        kind: PlannerKind::BOha,
-                        lidar_gap_s: None,
-                    };
-                    run_mission(&opts, |_, _, _| {}).map(|(rep, _, _)| rep)
-                });
-                if let Ok(mut o) = out.lock() {
-                    if let Some(slot) = o.get_mut(i) {
-                        *slot = Some(r);
-                    }
-                }
-                let d = done.fetch_add(1, Ordering::SeqCst) + 1;
-                progress(d, cases.len());
-            });
-        }
-    });
-    out.into_inner()
-        .unwrap_or_default()
-        .into_iter()
-        .map(|r| r.unwrap_or_else(|| Err("not run".into())))
-        .collect()
+    let run_one = |c: &SuiteCase| {
+        let r = suite_map(c.map).and_then(|map| {
+            let opts = MissionOptions {
+                map,
+                cell_m: 0.1,
+                mode: c.mode,
+                people: c.people,
+                noise: c.noise,
+                seed: c.seed,
+                max_time_s,
+                start: None,
+                kind: PlannerKind::BOha,
+                lidar_gap_s: None,
+            };
+            run_mission(&opts, |_, _, _| {}).map(|(rep, _, _)| rep)
+        });
+        progress(done.fetch_add(1, Ordering::SeqCst) + 1, cases.len());
+        r
+    };
+    match rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.max(1))
+        .build()
+    {
+        Ok(pool) => pool.install(|| cases.par_iter().map(run_one).collect()),
+        Err(e) => cases
+            .iter()
+            .map(|_| Err(format!("thread pool: {e}")))
+            .collect(),
+    }
 }

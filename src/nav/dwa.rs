@@ -142,6 +142,13 @@ pub fn window(p: &DwaParams, v_mm_s: i32, w_mrad_s: i32) -> ([i32; V_SAMPLES], [
 }
 
 /// Rolls out (v, ω) and measures it: (admissible, heading term, clearance).
+///
+/// Distances are in µm with 32×32→64 multiplies and no division in the
+/// inner loop (a 64-bit division is a library call on the Cortex-M4). For
+/// constant (v, ω) each step turns by dθ: the midpoint direction is rotated
+/// by a fixed (cos dθ, sin dθ) instead of a CORDIC per step. Va: the robot
+/// must be able to brake to a stop before the first contact; a disc turning
+/// on the spot sweeps nothing new, so v = 0 is always admissible.
 pub fn evaluate(
     p: &DwaParams,
     v_mm_s: i32,
@@ -151,18 +158,13 @@ pub fn evaluate(
 ) -> Sample {
     let steps = (p.horizon_ms / p.step_ms.max(1)).max(1);
     let (mut x_um, mut y_um, mut th_urad) = (0i64, 0i64, 0i64);
-    // Distances in µm with 32×32→64 multiplies and no division in the
-    // inner loop (a 64-bit division is a library call on the Cortex-M4).
     let r_um = p.radius_mm as i64 * 1000;
     let r2 = r_um * r_um;
     let mut min_d2 = i64::MAX;
     let step_um = v_mm_s as i64 * p.step_ms as i64; // mm/s · ms = µm
     let dth = w_mrad_s as i64 * p.step_ms as i64; // mrad/s · ms = µrad
-                                                  // How far along the arc the first contact is (for Va), µm.
     let mut travelled_um = 0i64;
-    let mut hit_at_um: Option<i64> = None;
-    // For constant (v, ω) each step turns by dθ: the midpoint direction is
-    // rotated by a fixed (cos dθ, sin dθ) instead of a CORDIC per step.
+    let mut hit_at_um: Option<i64> = None; // first contact along the arc, µm
     let (mut s, mut c) = sin_cos_q30(dth / 2);
     let (rs, rc) = sin_cos_q30(dth);
     for _ in 0..steps {
@@ -189,40 +191,15 @@ pub fn evaluate(
             }
         }
     }
-    Sample {
-        v_mm_s,
-        w_mrad_s,
-        ok: admissible(p, v_mm_s, w_mrad_s, hit_at_um, step_um),
-        heading_mrad: heading_term(goal, x_um, y_um, th_urad),
-        clearance_mm: clearance_mm(p, min_d2),
-    }
-}
-
-/// Clearance beyond the radius, mm (capped), from the least squared
-/// distance in µm².
-#[inline(always)]
-fn clearance_mm(p: &DwaParams, min_d2: i64) -> i32 {
-    let c = if min_d2 == i64::MAX {
+    // Clearance beyond the radius, mm (capped).
+    let clearance = if min_d2 == i64::MAX {
         p.clearance_cap_mm as i64
     } else {
         (crate::math::cost::isqrt_u64(min_d2.max(0) as u64) as i64 / 1000 - p.radius_mm as i64)
             .clamp(0, p.clearance_cap_mm as i64)
     };
-    c as i32
-}
-
-/// Va: the robot must be able to brake to a stop before the first
-/// contact (`hit_at_um` along the arc). A disc turning on the spot sweeps
-/// nothing new, so v = 0 is always admissible.
-#[inline(always)]
-fn admissible(
-    p: &DwaParams,
-    v_mm_s: i32,
-    w_mrad_s: i32,
-    hit_at_um: Option<i64>,
-    step_um: i64,
-) -> bool {
-    match hit_at_um {
+    // Va (see above).
+    let ok = match hit_at_um {
         None => true,
         Some(_) if v_mm_s == 0 => true,
         Some(h) => {
@@ -233,13 +210,8 @@ fn admissible(
             v * v <= 2 * dist_mm * p.acc_mm_s2 as i64
                 && w * w <= 2 * ang_mrad * p.w_acc_mrad_s2 as i64
         }
-    }
-}
-
-/// Heading: π minus the angle between the final heading and the goal,
-/// mrad.
-#[inline(always)]
-fn heading_term(goal: PointMm, x_um: i64, y_um: i64, th_urad: i64) -> i32 {
+    };
+    // Heading: π minus the angle between the final heading and the goal.
     let gx = goal.0 as i64 * 1000 - x_um;
     let gy = goal.1 as i64 * 1000 - y_um;
     let to_goal = atan2_urad(gy, gx);
@@ -247,7 +219,13 @@ fn heading_term(goal: PointMm, x_um: i64, y_um: i64, th_urad: i64) -> i32 {
     if err > 3_141_593 {
         err = 6_283_185 - err;
     }
-    ((3_141_593 - err) / 1000) as i32
+    Sample {
+        v_mm_s,
+        w_mrad_s,
+        ok,
+        heading_mrad: ((3_141_593 - err) / 1000) as i32,
+        clearance_mm: clearance as i32,
+    }
 }
 
 /// One DWA cycle from the current velocities toward `goal` (robot frame).

@@ -1,11 +1,11 @@
 //! `host-sim bench`: the papers' tables, the mission suite and the wheel
 //! step response.
 
-use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use super::args::write_file;
+use super::progress;
 use serde_json::json;
 
 /// Which benchmark.
@@ -117,16 +117,11 @@ fn cmd_table1(runs: usize, seed: u64, density: u32, corner: u32, json: bool) -> 
         density_pct: density,
         ..robovac::grid::maps::TABLE1_MAP
     };
-    let rows = host_sim::bench::table1(runs, seed, map, corner, |done, total| {
-        if !json && std::io::stderr().is_terminal() && (done % 10 == 0 || done == total) {
-            let w = 40 * done / total;
-            eprint!("\r[{}{}] {done}/{total}", "#".repeat(w), " ".repeat(40 - w));
-            let _ = std::io::stderr().flush();
-            if done == total {
-                eprintln!();
-            }
-        }
+    let pb = progress::bar(runs, "maps");
+    let rows = host_sim::bench::table1(runs, seed, map, corner, |done, _| {
+        pb.set_position(done as u64);
     });
+    pb.finish_and_clear();
     if json {
         let mut obj = serde_json::Map::new();
         obj.insert("runs".into(), json!(runs));
@@ -207,7 +202,7 @@ fn cmd_table2(
         ..robovac::grid::maps::TABLE2_MAP
     };
     let mut svg_err = None;
-    let tty = std::io::stderr().is_terminal();
+    let pb = progress::bar(2 * runs, "maps");
     let rows = host_sim::bench::table2(
         runs,
         seed,
@@ -226,28 +221,11 @@ fn cmd_table2(
             }
         },
         |done, total| {
-            if done % 10 == 0 || done == total {
-                let w = 40 * done / total;
-                if tty {
-                    eprint!(
-                        "\r[{}{}] {done}/{total} maps",
-                        "#".repeat(w),
-                        " ".repeat(40 - w)
-                    );
-                    if done == total {
-                        eprintln!();
-                    }
-                } else if done % (total / 4).max(1) == 0 || done == total {
-                    eprintln!(
-                        "[{}{}] {done}/{total} maps",
-                        "#".repeat(w),
-                        " ".repeat(40 - w)
-                    );
-                }
-                let _ = std::io::stderr().flush();
-            }
+            pb.set_length(total as u64);
+            pb.set_position(done as u64);
         },
     )?;
+    pb.finish_and_clear();
     if let Some(e) = svg_err {
         return Err(e);
     }
@@ -390,26 +368,12 @@ fn cmd_bench_missions(
     let threads = threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
         .max(1);
-    let tty = std::io::stderr().is_terminal();
     let t0 = Instant::now();
-    let results = run_suite(&cases, max_time, threads, |done, total| {
-        let w = 40 * done / total;
-        let line = format!(
-            "[{}{}] {done}/{total} missions, {:.0} s",
-            "#".repeat(w),
-            " ".repeat(40 - w),
-            t0.elapsed().as_secs_f64()
-        );
-        if tty {
-            eprint!("\r{line}");
-            if done == total {
-                eprintln!();
-            }
-        } else if done % (total / 10).max(1) == 0 || done == total {
-            eprintln!("{line}");
-        }
-        let _ = std::io::stderr().flush();
+    let pb = progress::bar(cases.len(), "missions");
+    let results = run_suite(&cases, max_time, threads, |done, _| {
+        pb.set_position(done as u64);
     });
+    pb.finish_and_clear();
     let wall = t0.elapsed().as_secs_f64();
     let mut rows = Vec::new();
     let mut failures = Vec::new();

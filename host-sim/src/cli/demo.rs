@@ -4,6 +4,7 @@ use std::io::{IsTerminal, Write};
 use std::path::Path;
 
 use super::args::write_file;
+use super::progress;
 
 /// Runs the command.
 pub fn run() -> Result<(), String> {
@@ -33,12 +34,13 @@ fn cmd_demo() -> Result<(), String> {
         "(living room, kitchen, hallway, two bedrooms, bathroom) while two people walk about."
     );
     let tty = std::io::stdout().is_terminal();
+    let pb = progress::status();
     let (rep, trace, floor) = run_mission(&opts, |t, state, cov| {
         if tty {
-            print!(
-                "\r  {t:>6.0} s simulated · {state:?} · {:.1} % of the floor swept      ",
+            pb.set_message(format!(
+                "{t:>6.0} s simulated · {state:?} · {:.1} % of the floor swept",
                 100.0 * cov
-            );
+            ));
         } else if (t as u64).is_multiple_of(300) {
             println!(
                 "  {t:>6.0} s simulated · {state:?} · {:.1} % of the floor swept",
@@ -47,9 +49,7 @@ fn cmd_demo() -> Result<(), String> {
         }
         let _ = std::io::stdout().flush();
     })?;
-    if tty {
-        println!();
-    }
+    pb.finish_and_clear();
     println!("  {}", summary(&rep));
     let svg = mission_svg(
         &opts.map,

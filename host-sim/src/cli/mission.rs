@@ -1,9 +1,9 @@
 //! `host-sim mission`: a whole cleaning mission in closed loop.
 
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
 use super::args::{load_world_map, parse_point, write_file, MapArgs, ModeArg, NoiseArg};
+use super::progress;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -37,6 +37,10 @@ pub struct Args {
     /// Write a picture of the mission.
     #[arg(long)]
     pub svg: Option<PathBuf>,
+    /// Print the executive's events (state changes, faults, avoidances,
+    /// docking) and add them to the JSON.
+    #[arg(long)]
+    pub events: bool,
 }
 
 /// Runs the command.
@@ -53,6 +57,7 @@ pub fn run(a: Args) -> Result<(), String> {
         lidar_gap,
         json,
         svg,
+        events,
     } = a;
     let kind = host_sim::plan::planner_by_name(&planner)
         .ok_or_else(|| format!("unknown planner {planner:?}"))?;
@@ -77,6 +82,7 @@ pub fn run(a: Args) -> Result<(), String> {
         &map.map.display().to_string(),
         json.as_deref(),
         svg.as_deref(),
+        events,
     )
 }
 
@@ -86,28 +92,34 @@ fn cmd_mission(
     name: &str,
     json: Option<&Path>,
     svg: Option<&Path>,
+    events: bool,
 ) -> Result<(), String> {
-    use host_sim::mission::{mission_svg, report_json, run_mission, summary};
-    let tty = std::io::stderr().is_terminal();
+    use host_sim::mission::{events_json, mission_svg, report_json, run_mission, summary};
+    let pb = progress::status();
     let (rep, trace, floor) = run_mission(opts, |t, state, cov| {
-        if tty {
-            eprint!(
-                "\r  {t:>6.0} s simulated · {state:?} · {:.1} % swept      ",
-                100.0 * cov
-            );
-        }
+        pb.set_message(format!(
+            "{t:>6.0} s simulated · {state:?} · {:.1} % swept",
+            100.0 * cov
+        ));
     })
     .map_err(|e| format!("{name}: {e}"))?;
-    if tty {
-        eprintln!();
-    }
+    pb.finish_and_clear();
     println!(
         "mission on {name} ({:?} map, {} people, seed {}):",
         opts.mode, opts.people, opts.seed
     );
     println!("  {}", summary(&rep));
+    if events {
+        for e in &trace.events {
+            println!("  {:>8.2} s  {:?}", e.at_us as f64 * 1e-6, e.kind);
+        }
+    }
     if let Some(f) = json {
-        write_file(f, &report_json(&rep).to_string())?;
+        let mut v = report_json(&rep);
+        if events {
+            v["events"] = events_json(&trace.events);
+        }
+        write_file(f, &v.to_string())?;
     }
     if let Some(f) = svg {
         let title = format!(

@@ -9,6 +9,7 @@ pub mod drive;
 pub mod lidar;
 pub mod mission;
 pub mod plan;
+pub mod progress;
 pub mod scen;
 pub mod search;
 
