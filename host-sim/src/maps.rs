@@ -481,8 +481,10 @@ pub fn load_ros_yaml(path: &Path, bytes: &[u8], opts: LoadOptions) -> Result<Map
         }
     };
     let resolution = num(&y.resolution, "resolution")?;
-    let mut th = RosThresholds::default();
-    th.negate = matches!(&y.negate, Some(v) if v.as_bool() == Some(true) || v.as_i64() == Some(1));
+    let mut th = RosThresholds {
+        negate: matches!(&y.negate, Some(v) if v.as_bool() == Some(true) || v.as_i64() == Some(1)),
+        ..RosThresholds::default()
+    };
     if let Some(v) = num(&y.occupied_thresh, "occupied_thresh")? {
         th.occupied_thresh = v;
     }

@@ -4,7 +4,7 @@
 //! once the way is clear. Given up after `avoid_timeout_us`.
 
 use super::config::MAP_POINTS;
-use super::{Activity, Exec, Mission, RING};
+use super::{Activity, Mission, RING};
 use crate::nav::cspace;
 use crate::nav::dwa::{self, DwaResult, MAX_OBSTACLES};
 use crate::nav::follow::SubPath;
@@ -13,15 +13,7 @@ use crate::nav::guard::free_distance_mm;
 use crate::robot::lidar_map::CellState;
 use crate::robot::odometry::Pose;
 
-impl<
-        const N: usize,
-        const NW: usize,
-        const OPEN: usize,
-        const LCAP: usize,
-        const PCAP: usize,
-        const EV: usize,
-    > Exec<'_, '_, '_, N, NW, OPEN, LCAP, PCAP, EV>
-{
+sized_impl!([] {
     /// Starts and ends avoidance; runs DWA while avoiding.
     pub(super) fn watch_corridor(&mut self, now_us: u64, pose: &Pose) {
         let m = &mut *self.m;
@@ -156,7 +148,7 @@ impl<
             }
         };
     }
-}
+});
 
 impl Mission {
     /// The corridor checked ahead of the robot toward `to`: its half-width

@@ -3,7 +3,7 @@
 //! the fine map and detoured by A* on it when a wall's end is in the way,
 //! and the fine path fed into the sub-path queue.
 
-use super::{Exec, Fault, Feed, Phase, QUEUE};
+use super::{Fault, Feed, Phase, QUEUE};
 use crate::coverage::{CoverageError, Step};
 use crate::grid::Cell;
 use crate::nav::cspace;
@@ -12,15 +12,7 @@ use crate::robot::odometry::Pose;
 use crate::search::{Algo, Progress, SearchError};
 use crate::verify::metrics::SegmentKind;
 
-impl<
-        const N: usize,
-        const NW: usize,
-        const OPEN: usize,
-        const LCAP: usize,
-        const PCAP: usize,
-        const EV: usize,
-    > Exec<'_, '_, '_, N, NW, OPEN, LCAP, PCAP, EV>
-{
+sized_impl!([] {
     /// The cover phase's step: map upkeep, avoidance, the fine path being
     /// fed, the planner's next waypoints; the edge pass when it is done.
     pub(super) fn cover_step(&mut self, now_us: u64, pose: &Pose) {
@@ -249,4 +241,4 @@ impl<
         m.feed = None;
         true
     }
-}
+});

@@ -1,21 +1,13 @@
 //! The edge pass ([`crate::nav::edge`]) along every wall and piece of
 //! furniture, on the fine configuration space, after the lanes.
 
-use super::{Exec, Fault, MapMode, Phase, HOME_TRIES};
+use super::{Fault, MapMode, Phase, HOME_TRIES};
 use crate::nav::cspace;
 use crate::nav::edge::{EdgePass, EdgeStep};
 use crate::nav::geometry::nearest_free_fine_within;
 use crate::robot::odometry::Pose;
 
-impl<
-        const N: usize,
-        const NW: usize,
-        const OPEN: usize,
-        const LCAP: usize,
-        const PCAP: usize,
-        const EV: usize,
-    > Exec<'_, '_, '_, N, NW, OPEN, LCAP, PCAP, EV>
-{
+sized_impl!([] {
     pub(super) fn start_edge(&mut self, pose: &Pose) {
         let m = &mut *self.m;
         let r = (m.cfg.radius_mm + m.cfg.margin_mm) as u32;
@@ -86,4 +78,4 @@ impl<
             }
         }
     }
-}
+});

@@ -1,21 +1,13 @@
 //! The way home: A* on the fine configuration space to the dock, planned
 //! again when cut short; done only within 100 mm of the dock.
 
-use super::{Exec, Fault, Feed, MapMode, Phase, HOME_TRIES};
+use super::{Fault, Feed, MapMode, Phase, HOME_TRIES};
 use crate::nav::cspace;
 use crate::nav::geometry::{dist_mm, nearest_free_fine_within};
 use crate::robot::odometry::Pose;
 use crate::search::Algo;
 
-impl<
-        const N: usize,
-        const NW: usize,
-        const OPEN: usize,
-        const LCAP: usize,
-        const PCAP: usize,
-        const EV: usize,
-    > Exec<'_, '_, '_, N, NW, OPEN, LCAP, PCAP, EV>
-{
+sized_impl!([] {
     /// The way home's step: feed the path; at the end, done when at the
     /// dock, else plan again (a few times) or fail.
     pub(super) fn return_step(&mut self, now_us: u64, pose: &Pose) {
@@ -89,4 +81,4 @@ impl<
             then: Some(home),
         });
     }
-}
+});

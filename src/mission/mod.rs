@@ -78,6 +78,29 @@
 //! `cover`, `edge`, `home`, `recover` and `avoid` its parts; `lidar` the
 //! lidar event.
 
+/// An impl for buffers of every size: the header with its six const
+/// generics written once. `sized_impl!([Trait for Type] { items })`, or
+/// `sized_impl!([] { items })` for the planning side's methods on
+/// [`Exec`] over [`Parts`].
+macro_rules! sized_impl {
+    ([] $($body:tt)*) => {
+        sized_impl!([$crate::mission::Exec<'_, '_, $crate::mission::Parts<'_, N, NW, OPEN, LCAP, PCAP, EV>>] $($body)*);
+    };
+    ([$($head:tt)*] { $($body:tt)* }) => {
+        impl<
+                const N: usize,
+                const NW: usize,
+                const OPEN: usize,
+                const LCAP: usize,
+                const PCAP: usize,
+                const EV: usize,
+            > $($head)*
+        {
+            $($body)*
+        }
+    };
+}
+
 mod avoid;
 mod control;
 mod cover;
@@ -209,20 +232,10 @@ pub struct Mission {
     counters: Counters,
 }
 
-/// The executive at work on the caller's buffers (the planning side).
-struct Exec<
-    'm,
-    'p,
-    'a,
-    const N: usize,
-    const NW: usize,
-    const OPEN: usize,
-    const LCAP: usize,
-    const PCAP: usize,
-    const EV: usize,
-> {
+/// The executive at work on the caller's buffers `P` (the planning side).
+struct Exec<'m, 'p, P> {
     m: &'m mut Mission,
-    p: &'p mut Parts<'a, N, NW, OPEN, LCAP, PCAP, EV>,
+    p: &'p mut P,
 }
 
 impl Mission {

@@ -47,15 +47,7 @@ pub trait MissionParts {
     fn plan(&mut self, m: &mut Mission, now_us: u64);
 }
 
-impl<
-        const N: usize,
-        const NW: usize,
-        const OPEN: usize,
-        const LCAP: usize,
-        const PCAP: usize,
-        const EV: usize,
-    > MissionParts for Parts<'_, N, NW, OPEN, LCAP, PCAP, EV>
-{
+sized_impl!([MissionParts for Parts<'_, N, NW, OPEN, LCAP, PCAP, EV>] {
     fn begin(&mut self, m: &mut Mission, start: Pose) {
         Exec { m, p: self }.begin(start);
     }
@@ -67,4 +59,4 @@ impl<
     fn plan(&mut self, m: &mut Mission, now_us: u64) {
         Exec { m, p: self }.plan(now_us);
     }
-}
+});

@@ -1,20 +1,12 @@
 //! The planning step (10 Hz): the hand-off replayed, the battery, the
 //! guard's hold, and the one dispatch on the phase; the self-test.
 
-use super::{seg_to, Activity, Exec, Fault, Mission, Phase};
+use super::{seg_to, Activity, Fault, Mission, Phase};
 use crate::nav::cspace;
 use crate::nav::geometry::segment_clear;
 use crate::robot::odometry::Pose;
 
-impl<
-        const N: usize,
-        const NW: usize,
-        const OPEN: usize,
-        const LCAP: usize,
-        const PCAP: usize,
-        const EV: usize,
-    > Exec<'_, '_, '_, N, NW, OPEN, LCAP, PCAP, EV>
-{
+sized_impl!([] {
     /// The body of [`Mission::begin`].
     pub(super) fn begin(&mut self, start: Pose) {
         let cfg = self.m.cfg;
@@ -131,26 +123,22 @@ impl<
                     self.fail(Fault::SelfTestLidar);
                 }
             }
-            Phase::SelfTestWheels { until_us, enc0 } => {
-                if now_us >= until_us {
-                    let dl = m.drive.enc_last.0.wrapping_sub(enc0.0) as i16;
-                    let dr = m.drive.enc_last.1.wrapping_sub(enc0.1) as i16;
-                    // Turning left: the left wheel backward, the right forward.
-                    m.phase = if dl <= -20 && dr >= 20 {
-                        Phase::SelfTestSettle {
-                            until_us: now_us + 300_000,
-                        }
-                    } else {
-                        Phase::Failed(Fault::SelfTestWheels)
-                    };
-                }
+            Phase::SelfTestWheels { until_us, enc0 } if now_us >= until_us => {
+                let dl = m.drive.enc_last.0.wrapping_sub(enc0.0) as i16;
+                let dr = m.drive.enc_last.1.wrapping_sub(enc0.1) as i16;
+                // Turning left: the left wheel backward, the right forward.
+                m.phase = if dl <= -20 && dr >= 20 {
+                    Phase::SelfTestSettle {
+                        until_us: now_us + 300_000,
+                    }
+                } else {
+                    Phase::Failed(Fault::SelfTestWheels)
+                };
             }
-            Phase::SelfTestSettle { until_us } => {
-                if now_us >= until_us {
-                    self.start_cover(now_us, pose);
-                }
+            Phase::SelfTestSettle { until_us } if now_us >= until_us => {
+                self.start_cover(now_us, pose);
             }
             _ => {}
         }
     }
-}
+});

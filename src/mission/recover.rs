@@ -3,22 +3,14 @@
 //! later pass, and planning a leg again when the guard held the robot.
 
 use super::handoff::Note;
-use super::{Activity, Exec, Fault, Phase, MAX_RETRIES, QUEUE};
+use super::{Activity, Fault, Phase, MAX_RETRIES, QUEUE};
 use crate::grid::{Cell, Layer};
 use crate::nav::cspace;
 use crate::nav::follow::SubPath;
 use crate::nav::geometry::dist_mm;
 use crate::robot::odometry::Pose;
 
-impl<
-        const N: usize,
-        const NW: usize,
-        const OPEN: usize,
-        const LCAP: usize,
-        const PCAP: usize,
-        const EV: usize,
-    > Exec<'_, '_, '_, N, NW, OPEN, LCAP, PCAP, EV>
-{
+sized_impl!([] {
     pub(super) fn fail(&mut self, f: Fault) {
         self.m.phase = Phase::Failed(f);
         self.m.activity = Activity::Follow;
@@ -184,4 +176,4 @@ impl<
         }
         self.detour(here, t, cover);
     }
-}
+});

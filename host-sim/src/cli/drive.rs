@@ -1,6 +1,6 @@
 //! `host-sim drive`: a route driven by the core's follower while the lidar maps.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use std::time::Instant;
 
@@ -38,30 +38,19 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<(), String> {
-    cmd_drive(
-        &a.map,
-        &a.route,
-        a.seed,
-        a.noise,
-        a.people,
-        a.svg.as_deref(),
-        a.json.as_deref(),
-        a.capture.as_deref(),
-        a.corrupt,
-    )
-}
-
-fn cmd_drive(
-    args: &MapArgs,
-    route: &str,
-    seed: u64,
-    noise: NoiseArg,
-    people: usize,
-    svg: Option<&Path>,
-    json: Option<&Path>,
-    capture: Option<&Path>,
-    corrupt: f64,
-) -> Result<(), String> {
+    let Args {
+        map: args,
+        route,
+        seed,
+        noise,
+        people,
+        svg,
+        json,
+        capture,
+        corrupt,
+    } = &a;
+    let (route, seed, noise, people, corrupt) = (route.as_str(), *seed, *noise, *people, *corrupt);
+    let (svg, json, capture) = (svg.as_deref(), json.as_deref(), capture.as_deref());
     use host_sim::drive::{drive, drive_svg, parse_route, DriveOptions, Route};
     let (map, cell_m) = load_world_map(args)?;
     let route = if route == "square" {
