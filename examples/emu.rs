@@ -349,14 +349,7 @@ mod emu {
         if evid.reset(64, 64, 50).is_err() {
             fail("evidence map");
         }
-        let mount = LidarMount {
-            offset_x_mm: 0,
-            offset_y_mm: 0,
-            zero_mrad: 0,
-            clockwise: false,
-            min_range_mm: 20,
-            max_range_mm: 12_000,
-        };
+        let mount = LidarMount::ld06_centred(false);
         let (cells, insn) = meter.measure(|| evid.integrate_scan(scan, &mount));
         let st = |x: i32, y: i32| {
             let (cx, cy) = evid.cell_of(x, y);

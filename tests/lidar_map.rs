@@ -6,14 +6,7 @@ use robovac::robot::lidar::{LidarFrame, LidarPoint};
 use robovac::robot::lidar_map::{CellState, EvidenceMap, LidarMount};
 use robovac::robot::odometry::Pose;
 
-const MOUNT: LidarMount = LidarMount {
-    offset_x_mm: 0,
-    offset_y_mm: 0,
-    zero_mrad: 0,
-    clockwise: false,
-    min_range_mm: 20,
-    max_range_mm: 12_000,
-};
+const MOUNT: LidarMount = LidarMount::ld06_centred(false);
 
 #[test]
 fn beams_clear_and_hit() {

@@ -2,8 +2,6 @@
 //! odometry while the lidar maps, and measures both against the truth. Also
 //! the wheel step response measurement.
 
-use std::fmt::Write as _;
-
 use robovac::nav::follow::{follow, FollowCmd, SubPaths, DEFAULT_FOLLOW};
 use robovac::robot::hal::{ByteSource, MotorDriver, QuadratureEncoder};
 use robovac::robot::lidar::ld06::Ld06;
@@ -15,6 +13,7 @@ use robovac::robot::wheel_control::WheelControl;
 
 use crate::maps::MapData;
 use crate::robot::{Noise, RobotConfig, Sim, SimEncoder};
+use crate::svg::Canvas;
 use crate::world::World;
 
 /// Evidence cells on the host (up to 75 m × 75 m at 5 cm).
@@ -22,14 +21,7 @@ pub const HOST_EVIDENCE: usize = 1500 * 1500;
 /// Frames per revolution the scan assembler holds.
 pub const SCAN_FRAMES: usize = 64;
 /// The LD06 on our robot: at the centre, angles clockwise from forward.
-pub const MOUNT: LidarMount = LidarMount {
-    offset_x_mm: 0,
-    offset_y_mm: 0,
-    zero_mrad: 0,
-    clockwise: true,
-    min_range_mm: 20,
-    max_range_mm: 12_000,
-};
+pub const MOUNT: LidarMount = LidarMount::ld06_centred(true);
 
 /// A route.
 #[derive(Clone, Debug)]
@@ -483,62 +475,24 @@ pub fn drive_svg(
     title: &str,
 ) -> String {
     let (wm, hm) = (map.width as f64 * cell_m, map.height as f64 * cell_m);
-    let s = (900.0 / wm.max(hm)).min(200.0);
-    let (w, h) = (wm * s, hm * s);
-    let mut o = String::new();
-    let _ = writeln!(
-        o,
-        r##"<svg xmlns="http://www.w3.org/2000/svg" width="{:.0}" height="{:.0}" font-family="sans-serif"><rect width="100%" height="100%" fill="#fff"/><g transform="translate(10,10)">"##,
-        w + 20.0,
-        h + 90.0
-    );
-    for y in 0..map.height as i32 {
-        for x in 0..map.width as i32 {
-            if map.is_blocked(x, y) {
-                let _ = writeln!(
-                    o,
-                    r##"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}" fill="#bbb" shape-rendering="crispEdges"/>"##,
-                    x as f64 * cell_m * s,
-                    y as f64 * cell_m * s,
-                    cell_m * s,
-                    cell_m * s
-                );
-            }
-        }
-    }
+    let mut c = Canvas::world(wm, hm, 90.0);
+    c.blocked(map, cell_m, "#bbb");
     let res = t.map.res_mm() as f64 / 1000.0;
+    let r = res * c.s;
     for cy in 0..t.map.height() as i32 {
         for cx in 0..t.map.width() as i32 {
-            let colour = match t.map.state(cx, cy) {
-                CellState::Occupied => "#d62728",
-                CellState::Free => "#9ecae1",
+            let (colour, op) = match t.map.state(cx, cy) {
+                CellState::Occupied => ("#d62728", r#" opacity="0.9""#),
+                CellState::Free => ("#9ecae1", r#" opacity="0.35""#),
                 CellState::Unknown => continue,
             };
-            let op = if colour == "#d62728" { 0.9 } else { 0.35 };
-            let _ = writeln!(
-                o,
-                r##"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}" fill="{colour}" opacity="{op}" shape-rendering="crispEdges"/>"##,
-                cx as f64 * res * s,
-                cy as f64 * res * s,
-                res * s,
-                res * s
-            );
+            c.rect_px((cx as f64 * r, cy as f64 * r, r, r), colour, op);
         }
     }
-    let line = |pts: &[(f64, f64)], style: &str| {
-        let p: Vec<String> = pts
-            .iter()
-            .step_by(5)
-            .map(|(x, y)| format!("{:.1},{:.1}", x * s, (hm - y) * s))
-            .collect();
-        format!(
-            r#"<polyline points="{}" fill="none" {style}/>"#,
-            p.join(" ")
-        )
-    };
-    o += &line(&t.truth, r##"stroke="#2ca02c" stroke-width="2""##);
-    o += &line(
+    c.polyline(&t.truth, 5, r##"stroke="#2ca02c" stroke-width="2""##);
+    c.polyline(
         &t.odom,
+        5,
         r##"stroke="#1f3f9f" stroke-width="1.5" stroke-dasharray="6,4""##,
     );
     let lines = [
@@ -547,16 +501,7 @@ pub fn drive_svg(
         format!("map: {} cells seen, {:.2} % classified correctly, false obstacles on the path {:.3} %; frames {} (CRC failures {})", rep.map_cells_seen, 100.0 * rep.map_correct_share, 100.0 * rep.path_false_obstacle_rate, rep.parser.frames, rep.parser.crc_failures),
         "grey: truth · red: mapped obstacles · blue: mapped free · green: true path · dashed: odometry".to_string(),
     ];
-    for (k, l) in lines.iter().enumerate() {
-        let _ = writeln!(
-            o,
-            r##"<text x="0" y="{:.0}" font-size="12" fill="#222">{}</text>"##,
-            h + 18.0 + 16.0 * k as f64,
-            l.replace('&', "&amp;").replace('<', "&lt;")
-        );
-    }
-    o += "</g></svg>\n";
-    o
+    c.finish(&lines)
 }
 
 /// The wheel speed step response from rest to `target_m_s` on open floor:

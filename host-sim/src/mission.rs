@@ -3,7 +3,6 @@
 //! every 100 ms inside it, lidar bytes as the UART delivers them), measured
 //! against the ground truth.
 
-use std::fmt::Write as _;
 use std::time::Instant;
 
 use robovac::coverage::PlannerKind;
@@ -18,6 +17,7 @@ use crate::floor::Floor;
 use crate::maps::MapData;
 use crate::robot::{Noise, RobotConfig, Sim, SimEncoder};
 use crate::state::{new_grid, HostGrid};
+use crate::svg::Canvas;
 use crate::world::World;
 
 /// Evidence (and fine planning) cell side, mm.
@@ -542,19 +542,11 @@ pub fn mission_svg(
     title: &str,
 ) -> String {
     let (wm, hm) = (map.width as f64 * cell_m, map.height as f64 * cell_m);
-    let s = (900.0 / wm.max(hm)).min(200.0);
-    let (w, h) = (wm * s, hm * s);
-    let mut o = String::new();
-    let _ = writeln!(
-        o,
-        r##"<svg xmlns="http://www.w3.org/2000/svg" width="{:.0}" height="{:.0}" font-family="sans-serif"><rect width="100%" height="100%" fill="#fff"/><g transform="translate(10,10)">"##,
-        w + 20.0,
-        h + 120.0
-    );
-    // Swept / missed floor.
+    let mut c = Canvas::world(wm, hm, 120.0);
+    let s = c.s;
+    // Swept / missed floor: runs of equal state in a row, one rectangle each.
     let (res, fw, fh) = floor.dims();
     for y in 0..fh {
-        // Runs of equal state in a row, one rectangle each.
         let mut x = 0;
         while x < fw {
             let st = floor.state(x, y);
@@ -564,79 +556,46 @@ pub fn mission_svg(
             }
             if let Some(swept) = st {
                 let colour = if swept { "#c7e9c0" } else { "#f4a6a6" };
-                let _ = writeln!(
-                    o,
-                    r##"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}" fill="{colour}" shape-rendering="crispEdges"/>"##,
-                    x as f64 * res * s,
-                    (hm - (y + 1) as f64 * res) * s,
-                    (x1 - x) as f64 * res * s,
-                    res * s
-                );
+                let px = (x as f64 * res * s, (hm - (y + 1) as f64 * res) * s);
+                c.rect_px((px.0, px.1, (x1 - x) as f64 * res * s, res * s), colour, "");
             }
             x = x1;
         }
     }
-    for y in 0..map.height as i32 {
-        for x in 0..map.width as i32 {
-            if map.is_blocked(x, y) {
-                let _ = writeln!(
-                    o,
-                    r##"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}" fill="#555" shape-rendering="crispEdges"/>"##,
-                    x as f64 * cell_m * s,
-                    y as f64 * cell_m * s,
-                    cell_m * s,
-                    cell_m * s
-                );
-            }
-        }
-    }
-    let line = |pts: &[(f64, f64)], step: usize, style: &str| {
-        let p: Vec<String> = pts
-            .iter()
-            .step_by(step.max(1))
-            .map(|(x, y)| format!("{:.1},{:.1}", x * s, (hm - y) * s))
-            .collect();
-        format!(
-            r#"<polyline points="{}" fill="none" {style}/>"#,
-            p.join(" ")
-        )
-    };
+    c.blocked(map, cell_m, "#555");
     for track in &t.people {
-        o += &line(
+        c.polyline(
             track,
             1,
             r##"stroke="#ff7f0e" stroke-width="1" opacity="0.5""##,
         );
     }
-    o += &line(
+    c.polyline(
         &t.truth,
         5,
         r##"stroke="#1f3f9f" stroke-width="1.2" opacity="0.8""##,
     );
-    for &(x, y) in &t.avoidances {
-        let _ = writeln!(
-            o,
-            r##"<circle cx="{:.1}" cy="{:.1}" r="6" fill="none" stroke="#1f77b4" stroke-width="2"/>"##,
-            x * s,
-            (hm - y) * s
-        );
+    for &p in &t.avoidances {
+        let (x, y) = c.px(p);
+        c.raw(&format!(
+            "<circle cx=\"{x:.1}\" cy=\"{y:.1}\" r=\"6\" fill=\"none\" stroke=\"#1f77b4\" stroke-width=\"2\"/>\n"
+        ));
     }
-    for &((x, y), by_person) in &t.collisions {
+    for &(p, by_person) in &t.collisions {
         let colour = if by_person { "#ff7f0e" } else { "#d62728" };
-        let (cx, cy) = (x * s, (hm - y) * s);
-        let _ = writeln!(
-            o,
-            r##"<path d="M{:.1},{:.1} l12,12 m0,-12 l-12,12" stroke="{colour}" stroke-width="3"/>"##,
-            cx - 6.0,
-            cy - 6.0
-        );
+        let (x, y) = c.px(p);
+        c.raw(&format!(
+            "<path d=\"M{:.1},{:.1} l12,12 m0,-12 l-12,12\" stroke=\"{colour}\" stroke-width=\"3\"/>\n",
+            x - 6.0,
+            y - 6.0
+        ));
     }
-    let _ = writeln!(
-        o,
-        r##"<rect x="{:.1}" y="{:.1}" width="12" height="12" fill="#2ca02c" stroke="#000"/>"##,
-        t.start.0 * s - 6.0,
-        (hm - t.start.1) * s - 6.0
-    );
+    let (x, y) = c.px(t.start);
+    c.raw(&format!(
+        "<rect x=\"{:.1}\" y=\"{:.1}\" width=\"12\" height=\"12\" fill=\"#2ca02c\" stroke=\"#000\"/>\n",
+        x - 6.0,
+        y - 6.0
+    ));
     let lines = [
         title.to_string(),
         format!(
@@ -659,16 +618,7 @@ pub fn mission_svg(
         ),
         "green: swept · red: reachable floor missed · blue line: robot · orange: people · rings: avoidances · crosses: collisions · square: dock".to_string(),
     ];
-    for (k, l) in lines.iter().enumerate() {
-        let _ = writeln!(
-            o,
-            r##"<text x="0" y="{:.0}" font-size="12" fill="#222">{}</text>"##,
-            h + 18.0 + 16.0 * k as f64,
-            l.replace('&', "&amp;").replace('<', "&lt;")
-        );
-    }
-    o += "</g></svg>\n";
-    o
+    c.finish(&lines)
 }
 
 /// A built-in mission map: name, ASCII text (0.1 m cells).

@@ -1,6 +1,7 @@
 //! SVG pictures of coverage plans, in the manner of seed 000's figures:
 //! obstacles, cover runs coloured by segment, transit paths dashed,
-//! backtracking and critical points marked, metrics in a caption.
+//! backtracking and critical points marked, metrics in a caption; and
+//! the [`Canvas`] the drive and mission pictures draw on.
 
 use std::fmt::Write;
 
@@ -166,6 +167,102 @@ pub fn plan_svg(map: &MapData, p: &Plan, title: &str) -> String {
     }
     s.push_str("</g></svg>\n");
     s
+}
+
+/// A picture of the world in metres (y up), drawn onto by the drive and
+/// mission pictures: the shared scaffold (header, scale, blocked cells,
+/// polylines, caption, footer), written once.
+pub struct Canvas {
+    out: String,
+    /// Pixels per metre.
+    pub s: f64,
+    /// The world's height, m (y is flipped with it).
+    pub h_m: f64,
+    /// The drawing's height, px (the caption goes below it).
+    pub h_px: f64,
+}
+
+impl Canvas {
+    /// A canvas for a `w_m` × `h_m` world, at most 900 px across, with
+    /// `caption_px` below the drawing.
+    pub fn world(w_m: f64, h_m: f64, caption_px: f64) -> Self {
+        let s = (900.0 / w_m.max(h_m)).min(200.0);
+        let (w, h) = (w_m * s, h_m * s);
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            r##"<svg xmlns="http://www.w3.org/2000/svg" width="{:.0}" height="{:.0}" font-family="sans-serif"><rect width="100%" height="100%" fill="#fff"/><g transform="translate(10,10)">"##,
+            w + 20.0,
+            h + caption_px
+        );
+        Self {
+            out,
+            s,
+            h_m,
+            h_px: h,
+        }
+    }
+
+    /// A world point (m) in pixels.
+    pub fn px(&self, (x, y): (f64, f64)) -> (f64, f64) {
+        (x * self.s, (self.h_m - y) * self.s)
+    }
+
+    /// Appends raw SVG.
+    pub fn raw(&mut self, svg: &str) {
+        self.out.push_str(svg);
+    }
+
+    /// A crisp rectangle in pixels.
+    pub fn rect_px(&mut self, (x, y, w, h): (f64, f64, f64, f64), fill: &str, extra: &str) {
+        let _ = writeln!(
+            self.out,
+            r##"<rect x="{x:.1}" y="{y:.1}" width="{w:.1}" height="{h:.1}" fill="{fill}"{extra} shape-rendering="crispEdges"/>"##,
+        );
+    }
+
+    /// The map's blocked cells (`cell_m` each, row 0 at the top).
+    pub fn blocked(&mut self, map: &MapData, cell_m: f64, fill: &str) {
+        let c = cell_m * self.s;
+        for y in 0..map.height as i32 {
+            for x in 0..map.width as i32 {
+                if map.is_blocked(x, y) {
+                    self.rect_px((x as f64 * c, y as f64 * c, c, c), fill, "");
+                }
+            }
+        }
+    }
+
+    /// A polyline through every `step`-th point (world m).
+    pub fn polyline(&mut self, pts: &[(f64, f64)], step: usize, style: &str) {
+        let p: Vec<String> = pts
+            .iter()
+            .step_by(step.max(1))
+            .map(|&q| {
+                let (x, y) = self.px(q);
+                format!("{x:.1},{y:.1}")
+            })
+            .collect();
+        let _ = write!(
+            self.out,
+            r#"<polyline points="{}" fill="none" {style}/>"#,
+            p.join(" ")
+        );
+    }
+
+    /// Caption lines under the drawing, and the footer.
+    pub fn finish(mut self, lines: &[String]) -> String {
+        for (k, l) in lines.iter().enumerate() {
+            let _ = writeln!(
+                self.out,
+                r##"<text x="0" y="{:.0}" font-size="12" fill="#222">{}</text>"##,
+                self.h_px + 18.0 + 16.0 * k as f64,
+                l.replace('&', "&amp;").replace('<', "&lt;")
+            );
+        }
+        self.out.push_str("</g></svg>\n");
+        self.out
+    }
 }
 
 fn xml(t: &str) -> String {

@@ -65,6 +65,23 @@ pub struct LidarMount {
     pub max_range_mm: u16,
 }
 
+impl LidarMount {
+    /// An LD06/LD19 at the robot's centre, its zero bearing forward, using
+    /// ranges of 20 mm to 12 m (the datasheet's span); `clockwise` as its
+    /// angles grow (the real sensor's, true; a mirrored test stream's,
+    /// false).
+    pub const fn ld06_centred(clockwise: bool) -> Self {
+        Self {
+            offset_x_mm: 0,
+            offset_y_mm: 0,
+            zero_mrad: 0,
+            clockwise,
+            min_range_mm: 20,
+            max_range_mm: 12_000,
+        }
+    }
+}
+
 /// A fine evidence grid of up to `N` cells.
 #[derive(Clone)]
 pub struct EvidenceMap<const N: usize> {
