@@ -678,17 +678,10 @@ mod emu {
             fail("built-in flat");
         }
         let flat_start = Cell::new(1, 1);
-        coverage_run(
-            &meter,
-            COV,
-            GRID,
-            CHECK,
-            REC,
-            flat_start,
-            PlannerKind::BOha,
-            u32::MAX,
-            "flat 40x20",
-        );
+        let mut run = |grid: &mut BenchGrid, start, kind, budget, name| {
+            coverage_run(&meter, COV, grid, CHECK, REC, start, kind, budget, name)
+        };
+        run(GRID, flat_start, PlannerKind::BOha, u32::MAX, "flat 40x20");
         let mut rng = SplitMix64::new(1);
         let spec = robovac::grid::maps::RandomMap {
             width: 30,
@@ -702,28 +695,10 @@ mod emu {
             fail("table 2 map has no free cell")
         };
         for kind in [PlannerKind::BOha, PlannerKind::BOhaPc, PlannerKind::BaStar] {
-            coverage_run(
-                &meter,
-                COV,
-                GRID,
-                CHECK,
-                REC,
-                t2_start,
-                kind,
-                u32::MAX,
-                "table2 50x30",
-            );
-            coverage_run(
-                &meter,
-                COV,
-                GRID,
-                CHECK,
-                REC,
-                t2_start,
-                kind,
-                NODE_BUDGET,
-                "table2 50x30",
-            );
+            // Whole, then stepped with the firmware's node budget per call.
+            for budget in [u32::MAX, NODE_BUDGET] {
+                run(GRID, t2_start, kind, budget, "table2 50x30");
+            }
         }
         lidar_and_odometry(&meter, EVID, ASM, SCAN);
         dwa_cycle(&meter);

@@ -48,60 +48,36 @@ fn errors_and_commands() {
         to: (1000, 0),
     };
     assert_eq!(track_errors(&seg, 200, 50), (50, 800));
+    let at = |x_mm, y_mm, theta_mrad| {
+        follow(
+            &DEFAULT_FOLLOW,
+            &seg,
+            &Pose {
+                x_mm,
+                y_mm,
+                theta_mrad,
+            },
+        )
+    };
     // Facing away: turn in place first.
-    match follow(
-        &DEFAULT_FOLLOW,
-        &seg,
-        &Pose {
-            x_mm: 0,
-            y_mm: 0,
-            theta_mrad: 3000,
-        },
-    ) {
+    match at(0, 0, 3000) {
         FollowCmd::Drive { v_mm_s, w_mrad_s } => assert!(v_mm_s == 0 && w_mrad_s != 0),
         c => panic!("{c:?}"),
     }
     // On the line, facing along: drive straight at cruise speed.
     assert_eq!(
-        follow(
-            &DEFAULT_FOLLOW,
-            &seg,
-            &Pose {
-                x_mm: 100,
-                y_mm: 0,
-                theta_mrad: 0
-            }
-        ),
+        at(100, 0, 0),
         FollowCmd::Drive {
             v_mm_s: 300,
             w_mrad_s: 0
         }
     );
     // Left of the line: steer right (negative ω) while driving.
-    match follow(
-        &DEFAULT_FOLLOW,
-        &seg,
-        &Pose {
-            x_mm: 100,
-            y_mm: 60,
-            theta_mrad: 0,
-        },
-    ) {
+    match at(100, 60, 0) {
         FollowCmd::Drive { v_mm_s, w_mrad_s } => assert!(v_mm_s > 0 && w_mrad_s < 0),
         c => panic!("{c:?}"),
     }
-    assert_eq!(
-        follow(
-            &DEFAULT_FOLLOW,
-            &seg,
-            &Pose {
-                x_mm: 990,
-                y_mm: 5,
-                theta_mrad: 0
-            }
-        ),
-        FollowCmd::Arrived
-    );
+    assert_eq!(at(990, 5, 0), FollowCmd::Arrived);
 }
 
 /// An ideal unicycle following a zig-zag converges onto each line and

@@ -6,8 +6,8 @@ use robovac::grid::maps::{table1_instance, RandomMap, SplitMix64};
 use robovac::search::prune::prune;
 use robovac::{Algo, Cell};
 
+use crate::capacity::{new_grid, new_search};
 use crate::metrics::{mean, polyline_length};
-use crate::state::{new_grid, new_search};
 
 /// One algorithm's row of Table 1.
 #[derive(Clone, Debug, Default)]
@@ -247,7 +247,7 @@ pub fn table2(
     use crate::plan::{new_planner, plan_on, ALL_PLANNERS};
     let mut out = Vec::new();
     let mut planners: Vec<_> = ALL_PLANNERS.iter().map(|&k| new_planner(k)).collect();
-    let mut grid = crate::state::new_grid();
+    let mut grid = crate::capacity::new_grid();
     let mut rng = SplitMix64::new(seed);
     let total = runs * TABLE2_SIZES.len();
     let mut done = 0;

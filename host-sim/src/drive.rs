@@ -3,25 +3,20 @@
 //! the wheel step response measurement.
 
 use robovac::nav::follow::{follow, FollowCmd, SubPaths, DEFAULT_FOLLOW};
-use robovac::robot::hal::{ByteSource, MotorDriver, QuadratureEncoder};
+use robovac::robot::hal::{ByteSource, MotorDriver};
 use robovac::robot::lidar::ld06::Ld06;
 use robovac::robot::lidar::scan::{Scan, ScanAssembler};
 use robovac::robot::lidar::{LidarProtocol, ParserStats};
-use robovac::robot::lidar_map::{CellState, EvidenceMap, LidarMount};
+use robovac::robot::lidar_map::{CellState, EvidenceMap};
 use robovac::robot::odometry::{Odometry, Pose};
 use robovac::robot::wheel_control::WheelControl;
 
+use crate::capacity::{HOST_EVIDENCE, SCAN_FRAMES};
 use crate::maps::MapData;
-use crate::robot::{Noise, RobotConfig, Sim, SimEncoder};
+use crate::robot::MOUNT;
+use crate::robot::{Noise, RobotConfig, Sim};
 use crate::svg::Canvas;
 use crate::world::World;
-
-/// Evidence cells on the host (up to 75 m × 75 m at 5 cm).
-pub const HOST_EVIDENCE: usize = 1500 * 1500;
-/// Frames per revolution the scan assembler holds.
-pub const SCAN_FRAMES: usize = 64;
-/// The LD06 on our robot: at the centre, angles clockwise from forward.
-pub const MOUNT: LidarMount = LidarMount::ld06_centred(true);
 
 /// A route.
 #[derive(Clone, Debug)]
@@ -247,13 +242,8 @@ pub fn drive(opts: DriveOptions) -> Result<(DriveReport, DriveTrace), String> {
     let heading = (waypoints[1].1 - start.1).atan2(waypoints[1].0 - start.0);
     let mut rng = robovac::grid::maps::SplitMix64::new(opts.seed ^ 0x5EED);
     world.add_people(opts.people, &mut rng);
-    let mut sim = Sim::new(
-        cfg.clone(),
-        world,
-        (start.0, start.1, heading),
-        opts.noise,
-        opts.seed,
-    );
+    let pose = (start.0, start.1, heading);
+    let mut sim = Sim::new(cfg.clone(), world, pose, opts.noise, opts.seed);
     sim.corruption.flip = opts.corrupt;
     if opts.capture {
         sim.capture = Some(Vec::new());
@@ -299,16 +289,7 @@ pub fn drive(opts: DriveOptions) -> Result<(DriveReport, DriveTrace), String> {
             sim.step();
         }
         // Encoders through the core's trait.
-        let l = SimEncoder {
-            sim: &sim,
-            wheel: 0,
-        }
-        .count();
-        let rr = SimEncoder {
-            sim: &sim,
-            wheel: 1,
-        }
-        .count();
+        let (l, rr) = sim.read_encoders();
         let pose: Pose = odom.update(l, rr);
         let d = [
             l.wrapping_sub(last_ticks[0]) as i16 as i32,

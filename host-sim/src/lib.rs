@@ -3,6 +3,7 @@
 //! only supplies files, big capacities and reports.
 
 pub mod bench;
+pub mod capacity;
 pub mod drive;
 pub mod floor;
 pub mod maps;
@@ -11,6 +12,5 @@ pub mod mission;
 pub mod plan;
 pub mod robot;
 pub mod scen;
-pub mod state;
 pub mod svg;
 pub mod world;

@@ -7,16 +7,15 @@ use std::time::Instant;
 
 use robovac::coverage::PlannerKind;
 use robovac::mission::{MapMode, Mission, MissionConfig, MotorCmd, Parts, State};
-use robovac::robot::hal::{ByteSource, MotorDriver, QuadratureEncoder};
+use robovac::robot::hal::{ByteSource, MotorDriver};
 use robovac::robot::lidar_map::{CellState, EvidenceMap};
 use robovac::robot::odometry::Pose;
 use robovac::Cell;
 
-use crate::drive::{HOST_EVIDENCE, MOUNT};
+use crate::capacity::{new_grid, HostGrid, HOST_EVIDENCE};
 use crate::floor::Floor;
 use crate::maps::MapData;
-use crate::robot::{Noise, RobotConfig, Sim, SimEncoder};
-use crate::state::{new_grid, HostGrid};
+use crate::robot::{Noise, RobotConfig, Sim, MOUNT};
 use crate::svg::Canvas;
 use crate::world::World;
 
@@ -139,7 +138,7 @@ pub fn default_start(world: &World, r: f64) -> Option<(f64, f64)> {
 /// The host's planning buffers.
 pub struct HostParts {
     planner: Box<crate::plan::HostCoverage>,
-    search: Box<crate::state::HostSearch>,
+    search: Box<crate::capacity::HostSearch>,
     coarse: Box<HostGrid>,
     fine: Box<HostGrid>,
     /// The evidence map.
@@ -152,7 +151,7 @@ impl HostParts {
     pub fn new(kind: PlannerKind) -> Self {
         Self {
             planner: crate::plan::new_planner(kind),
-            search: crate::state::new_search(),
+            search: crate::capacity::new_search(),
             coarse: new_grid(),
             fine: new_grid(),
             map: Box::new(EvidenceMap::new()),
@@ -190,13 +189,8 @@ pub fn run_mission(
         }
     }
     let heading = 0.0;
-    let mut sim = Sim::new(
-        cfg.clone(),
-        world,
-        (start.0, start.1, heading),
-        opts.noise,
-        opts.seed,
-    );
+    let pose = (start.0, start.1, heading);
+    let mut sim = Sim::new(cfg.clone(), world, pose, opts.noise, opts.seed);
     let mut floor = Floor::new(&sim.world, start, r, 0.05);
     // The core.
     let mut mcfg = MissionConfig::new(opts.mode, cfg.geometry(), cfg.gains, MOUNT);
@@ -288,16 +282,7 @@ pub fn run_mission(
                 mission.feed_lidar(&mut parts, buf.get(..n).unwrap_or(&[]), sim.t_us);
             }
         }
-        let l = SimEncoder {
-            sim: &sim,
-            wheel: 0,
-        }
-        .count();
-        let rr = SimEncoder {
-            sim: &sim,
-            wheel: 1,
-        }
-        .count();
+        let (l, rr) = sim.read_encoders();
         match mission.tick(&mut parts, sim.t_us, (l, rr)) {
             MotorCmd::Duty(a, b) => sim.set_duty(a, b),
             MotorCmd::Brake => sim.brake(),

@@ -7,13 +7,11 @@ use robovac::coverage::{Coverage, PlanStats, PlannerKind, Step, Waypoint};
 use robovac::verify::metrics::{Metrics, MetricsRecorder, SegmentKind};
 use robovac::Cell;
 
+use crate::capacity::{
+    new_grid, HostGrid, HOST_CELLS, HOST_LCAP, HOST_OPEN, HOST_PCAP, HOST_WORDS,
+};
 use crate::maps::MapData;
-use crate::state::{new_grid, HostGrid, HOST_CELLS, HOST_OPEN, HOST_WORDS};
 
-/// Backtracking-list capacity on the host.
-pub const HOST_LCAP: usize = HOST_CELLS;
-/// Transit path buffer on the host.
-pub const HOST_PCAP: usize = HOST_CELLS;
 /// The host coverage planner.
 pub type HostCoverage = Coverage<HOST_CELLS, HOST_WORDS, HOST_OPEN, HOST_LCAP, HOST_PCAP>;
 

@@ -13,6 +13,10 @@ use robovac::robot::wheel_control::WheelGains;
 
 use crate::world::World;
 
+/// The LD06 on our robot: at the centre, angles clockwise from forward.
+pub const MOUNT: robovac::robot::lidar_map::LidarMount =
+    robovac::robot::lidar_map::LidarMount::ld06_centred(true);
+
 /// Noise levels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Noise {
@@ -460,6 +464,23 @@ pub struct SimEncoder<'a> {
 impl QuadratureEncoder for SimEncoder<'_> {
     fn count(&mut self) -> u16 {
         self.sim.encoder(self.wheel)
+    }
+}
+
+impl Sim {
+    /// Both encoders' counts (left, right), read through the core's trait.
+    pub fn read_encoders(&self) -> (u16, u16) {
+        let l = SimEncoder {
+            sim: self,
+            wheel: 0,
+        }
+        .count();
+        let r = SimEncoder {
+            sim: self,
+            wheel: 1,
+        }
+        .count();
+        (l, r)
     }
 }
 

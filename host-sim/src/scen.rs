@@ -6,9 +6,9 @@ use std::time::Instant;
 use robovac::search::prune::prune;
 use robovac::{Algo, Cell};
 
+use crate::capacity::{new_grid, new_search};
 use crate::maps::{MapData, MapError};
 use crate::metrics::{median, polyline_length};
-use crate::state::{new_grid, new_search};
 
 /// One scenario problem.
 #[derive(Clone, Debug, PartialEq)]

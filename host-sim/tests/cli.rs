@@ -23,8 +23,7 @@ fn json(args: &[&str]) -> serde_json::Value {
 
 #[test]
 fn bad_input_exits_2_with_one_line() {
-    let dir = std::env::temp_dir().join(format!("robovac-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = test_support::temp_dir("cli");
     let trunc = dir.join("t.map");
     std::fs::write(&trunc, "type octile\nheight 9\nwidth 9\nmap\n.........\n").unwrap();
     let ascii = dir.join("a.txt");
@@ -70,8 +69,7 @@ fn bad_input_exits_2_with_one_line() {
 
 #[test]
 fn search_json_has_the_fields() {
-    let dir = std::env::temp_dir().join(format!("robovac-cli-s-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = test_support::temp_dir("cli-s");
     let ascii = dir.join("a.txt");
     std::fs::write(&ascii, "......\n.####.\n......\n").unwrap();
     for algo in ["astar", "oha", "theta"] {
@@ -145,14 +143,9 @@ fn table1_small_run_keeps_the_papers_order() {
 
 #[test]
 fn demo_runs_a_whole_mission_and_writes_its_picture() {
-    let dir = std::env::temp_dir().join(format!("robovac-cli-demo-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = test_support::temp_dir("cli-demo");
     let out = bin().arg("demo").current_dir(&dir).output().unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    test_support::assert_ok(&out);
     let s = String::from_utf8_lossy(&out.stdout);
     assert!(
         s.contains("finished true") && s.contains("back at start true"),
@@ -165,8 +158,7 @@ fn demo_runs_a_whole_mission_and_writes_its_picture() {
 
 #[test]
 fn mission_reports_json_and_rejects_bad_input() {
-    let dir = std::env::temp_dir().join(format!("robovac-cli-m-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = test_support::temp_dir("cli-m");
     let map = repo().join("maps/flat/studio.txt");
     let (j, svg) = (dir.join("m.json"), dir.join("m.svg"));
     let out = bin()
@@ -178,12 +170,8 @@ fn mission_reports_json_and_rejects_bad_input() {
         .arg(&svg)
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&j).unwrap()).unwrap();
+    test_support::assert_ok(&out);
+    let v: serde_json::Value = test_support::read_json(&j);
     for k in [
         "finished",
         "returned_to_start",
@@ -236,8 +224,7 @@ fn mission_reports_json_and_rejects_bad_input() {
 
 #[test]
 fn plan_writes_json_and_svg() {
-    let dir = std::env::temp_dir().join(format!("robovac-cli-p-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = test_support::temp_dir("cli-p");
     for planner in ["b-oha", "ba", "b-theta", "b-oha-pc"] {
         let (j, s) = (
             dir.join(format!("{planner}.json")),
@@ -263,8 +250,7 @@ fn plan_writes_json_and_svg() {
             "{}",
             String::from_utf8_lossy(&out.stderr)
         );
-        let v: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&j).unwrap()).unwrap();
+        let v: serde_json::Value = test_support::read_json(&j);
         assert_eq!(v["map"]["width"], 64);
         assert_eq!(v["grid"].as_array().unwrap().len(), 64);
         assert_eq!(v["start"], serde_json::json!([1, 1]));
@@ -338,8 +324,7 @@ fn plan_writes_json_and_svg() {
 
 #[test]
 fn table2_json_and_pictures() {
-    let dir = std::env::temp_dir().join(format!("robovac-cli-t2-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = test_support::temp_dir("cli-t2");
     let j = dir.join("t2.json");
     let out = bin()
         .args(["bench", "table2", "--runs", "4", "--seed", "3", "--json"])
@@ -348,26 +333,19 @@ fn table2_json_and_pictures() {
         .arg(dir.join("svg"))
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    test_support::assert_ok(&out);
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("1200.01") && text.contains("ratios against our BA*"));
-    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&j).unwrap()).unwrap();
+    let v: serde_json::Value = test_support::read_json(&j);
     for size in ["50x30", "30x50"] {
         for p in ["ba", "b-theta", "b-oha", "b-oha-pc"] {
             let r = &v[size][p];
             assert_eq!(r["min_coverage"], 1.0, "{size} {p}");
-            for k in [
-                "coverage_path_length",
-                "segments",
-                "turns",
-                "backtrack_path_length",
-                "backtrack_points_total",
-                "time_us",
-            ] {
+            let positive = "coverage_path_length segments turns backtrack_path_length";
+            for k in positive
+                .split(' ')
+                .chain(["backtrack_points_total", "time_us"])
+            {
                 assert!(r[k].as_f64().unwrap() > 0.0, "{size} {p} {k}");
             }
         }
@@ -377,8 +355,7 @@ fn table2_json_and_pictures() {
 
 #[test]
 fn drive_and_lidar_decode() {
-    let dir = std::env::temp_dir().join(format!("robovac-cli-d-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = test_support::temp_dir("cli-d");
     let (j, cap, svg) = (dir.join("d.json"), dir.join("cap.ld06"), dir.join("d.svg"));
     let out = bin()
         .args([
@@ -401,12 +378,8 @@ fn drive_and_lidar_decode() {
         .current_dir(repo())
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&j).unwrap()).unwrap();
+    test_support::assert_ok(&out);
+    let v: serde_json::Value = test_support::read_json(&j);
     assert_eq!(v["completed"], true);
     assert!(v["odometry"]["final_position_error_mm"].as_f64().unwrap() < 5.0);
     assert!(v["map"]["correct_share"].as_f64().unwrap() > 0.98);

@@ -3,9 +3,9 @@
 //! covered) and every metric is recomputed from the waypoints alone and
 //! compared with what the planner reported.
 
+use host_sim::capacity::{new_grid, HOST_WORDS};
 use host_sim::maps::MapData;
 use host_sim::plan::{new_planner, plan, plan_on, Plan, ALL_PLANNERS};
-use host_sim::state::{new_grid, HOST_WORDS};
 use proptest::prelude::*;
 use robovac::coverage::{Coverage, PlannerKind, Step};
 use robovac::verify::check::Checker;
@@ -207,18 +207,7 @@ fn movingai_and_table2_maps() {
 
 fn random_map(w: u32, h: u32, density: u32, seed: u64, kind: u8) -> MapData {
     let mut rng = robovac::grid::maps::SplitMix64::new(seed);
-    let mut g: Box<Grid<{ 64 * 64 / 32 }>> = Box::new(Grid::new());
-    robovac::grid::maps::random_obstacles(
-        &mut *g,
-        robovac::grid::maps::RandomMap {
-            width: w,
-            height: h,
-            density_pct: density,
-            max_side: 3,
-        },
-        &mut rng,
-    )
-    .unwrap();
+    let g: Box<Grid<{ 64 * 64 / 32 }>> = test_support::random_grid_with(w, h, density, &mut rng);
     let mut blocked: Vec<bool> = (0..h as i32)
         .flat_map(|y| (0..w as i32).map(move |x| (x, y)))
         .map(|(x, y)| g.is_blocked(x, y))

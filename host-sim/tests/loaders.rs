@@ -2,8 +2,8 @@
 
 use std::path::{Path, PathBuf};
 
+use host_sim::capacity::new_grid;
 use host_sim::maps::{load_map, LoadOptions, MapData};
-use host_sim::state::new_grid;
 
 fn tmp(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("robovac-loaders-{}", std::process::id()));
@@ -125,14 +125,7 @@ fn resampling_needs_every_pixel_free() {
         Eight,
         &[255, 255, 255, 255, 255, 255, 255, 0],
     );
-    let m = load_map(
-        &p,
-        LoadOptions {
-            cell_m: Some(0.1),
-            png_resolution_m: None,
-        },
-    )
-    .unwrap();
+    let m = load_cells(&p, 0.1);
     assert_eq!(
         (m.width, m.height, m.blocked.clone()),
         (2, 1, vec![false, true])
@@ -140,14 +133,7 @@ fn resampling_needs_every_pixel_free() {
     assert_eq!(m.cell_m, Some(0.1));
     // a partial block at the edge counts its missing pixels as blocked
     let p = png("rs3.png", 3, 2, Grayscale, Eight, &[255; 6]);
-    let m = load_map(
-        &p,
-        LoadOptions {
-            cell_m: Some(0.1),
-            png_resolution_m: None,
-        },
-    )
-    .unwrap();
+    let m = load_cells(&p, 0.1);
     assert_eq!(m.blocked, vec![false, true]);
     // a cell smaller than a pixel is refused
     assert!(load_map(
@@ -238,4 +224,16 @@ fn bad_files_are_clear_errors() {
     let mut g = new_grid();
     let e = m.to_grid(&mut *g).unwrap_err().to_string();
     assert!(e.contains("exceeds the capacity"), "{e}");
+}
+
+/// Loads an image map resampled to `cell_m` cells.
+fn load_cells(p: &std::path::Path, cell_m: f64) -> MapData {
+    load_map(
+        p,
+        LoadOptions {
+            cell_m: Some(cell_m),
+            png_resolution_m: None,
+        },
+    )
+    .unwrap()
 }

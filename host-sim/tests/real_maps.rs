@@ -5,9 +5,9 @@
 
 use std::path::PathBuf;
 
+use host_sim::capacity::{new_grid, new_search};
 use host_sim::maps::{load_map, LoadOptions};
 use host_sim::metrics::check_polyline;
-use host_sim::state::{new_grid, new_search};
 use robovac::{Algo, Cell};
 
 fn shared() -> Option<PathBuf> {
@@ -118,7 +118,7 @@ fn real_maps_load_and_plan() {
                     let p =
                         host_sim::plan::plan(&m, kind, Some(s)).unwrap_or_else(|e| panic!("{e}"));
                     let mut ck: Box<
-                        robovac::verify::check::Checker<{ host_sim::state::HOST_WORDS }>,
+                        robovac::verify::check::Checker<{ host_sim::capacity::HOST_WORDS }>,
                     > = Box::new(robovac::verify::check::Checker::new());
                     ck.start(&*grid, s).unwrap();
                     for w in &p.moves {

@@ -123,20 +123,7 @@ pub fn polyline_len(p: &[Cell]) -> f64 {
         .sum()
 }
 
-/// A random map from a seed (density in percent), bordered or not.
+/// A random map from a seed (density in percent).
 pub fn random_grid(w: u32, h: u32, density: u32, seed: u64) -> Box<TGrid> {
-    let mut g = Box::new(TGrid::new());
-    let mut rng = robovac::grid::maps::SplitMix64::new(seed);
-    robovac::grid::maps::random_obstacles(
-        &mut *g,
-        robovac::grid::maps::RandomMap {
-            width: w,
-            height: h,
-            density_pct: density,
-            max_side: 3,
-        },
-        &mut rng,
-    )
-    .unwrap();
-    g
+    test_support::random_grid(w, h, density, seed)
 }

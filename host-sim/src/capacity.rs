@@ -1,6 +1,8 @@
-//! Host-sized capacities: maps up to 1024 × 1024 cells (MovingAI benchmark
-//! maps are 512 × 512; real floor plans resampled to robot cells are far
-//! smaller).
+//! Every host size in one place: maps up to 1024 × 1024 cells (MovingAI
+//! benchmark maps are 512 × 512; real floor plans resampled to robot cells
+//! are far smaller), the planner's list and path, the evidence map and the
+//! scan assembler. The firmware's own sizes are the core's
+//! `robovac::capacity`.
 
 use robovac::math::bits::words_for;
 use robovac::{Grid, SearchState};
@@ -11,6 +13,15 @@ pub const HOST_CELLS: usize = 1024 * 1024;
 pub const HOST_WORDS: usize = words_for(HOST_CELLS);
 /// Open-list capacity on the host (one entry per cell: it never fills).
 pub const HOST_OPEN: usize = HOST_CELLS;
+
+/// Backtracking-list capacity on the host.
+pub const HOST_LCAP: usize = HOST_CELLS;
+/// Transit path buffer on the host.
+pub const HOST_PCAP: usize = HOST_CELLS;
+/// Evidence cells on the host (up to 75 m × 75 m at 5 cm).
+pub const HOST_EVIDENCE: usize = 1500 * 1500;
+/// Frames per revolution the scan assembler holds.
+pub const SCAN_FRAMES: usize = 64;
 
 /// The host grid.
 pub type HostGrid = Grid<HOST_WORDS>;
