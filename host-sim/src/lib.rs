@@ -1,16 +1,19 @@
 //! host-sim: the robovac core compiled for the host, with map loaders, a
-//! CLI and benchmarks. The planning code is the firmware's own; this crate
-//! only supplies files, big capacities and reports.
+//! physical twin, a CLI and benchmarks. The planning code is the firmware's
+//! own; this crate only supplies files, big capacities, physics and
+//! reports.
+//!
+//! - [`capacity`]: every host size in one place.
+//! - [`io`]: map loaders and scenarios.
+//! - [`sim`]: the twin (world, robot, floor truth).
+//! - [`run`]: plans, drives, missions, benchmark suites.
+//! - [`report`]: metrics helpers and SVG pictures.
+//!
+//! The command line (`src/main.rs`, `src/cli/`) is one file per command
+//! on top of these.
 
-pub mod bench;
 pub mod capacity;
-pub mod drive;
-pub mod floor;
-pub mod maps;
-pub mod metrics;
-pub mod mission;
-pub mod plan;
-pub mod robot;
-pub mod scen;
-pub mod svg;
-pub mod world;
+pub mod io;
+pub mod report;
+pub mod run;
+pub mod sim;

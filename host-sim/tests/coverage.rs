@@ -4,8 +4,8 @@
 //! compared with what the planner reported.
 
 use host_sim::capacity::{new_grid, HOST_WORDS};
-use host_sim::maps::MapData;
-use host_sim::plan::{new_planner, plan, plan_on, Plan, ALL_PLANNERS};
+use host_sim::io::maps::MapData;
+use host_sim::run::plan::{new_planner, plan, plan_on, Plan, ALL_PLANNERS};
 use proptest::prelude::*;
 use robovac::coverage::{Coverage, PlannerKind, Step};
 use robovac::verify::check::Checker;
@@ -191,15 +191,19 @@ fn movingai_and_table2_maps() {
     for m in ["rooms64", "maze49"] {
         let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
             .join(format!("../maps/movingai/{m}.map"));
-        let map = host_sim::maps::load_map(&path, Default::default()).unwrap();
+        let map = host_sim::io::maps::load_map(&path, Default::default()).unwrap();
         check_all(&map, None);
     }
     let mut rng = robovac::grid::maps::SplitMix64::new(5);
-    for (_, w, h) in host_sim::bench::TABLE2_SIZES {
+    for (_, w, h) in host_sim::run::bench::TABLE2_SIZES {
         for _ in 0..5 {
-            let (map, start) =
-                host_sim::bench::table2_instance(w, h, robovac::grid::maps::TABLE2_MAP, &mut rng)
-                    .unwrap();
+            let (map, start) = host_sim::run::bench::table2_instance(
+                w,
+                h,
+                robovac::grid::maps::TABLE2_MAP,
+                &mut rng,
+            )
+            .unwrap();
             check_all(&map, Some(start));
         }
     }
@@ -270,7 +274,7 @@ proptest! {
 fn node_budget_bounds_every_call_and_changes_nothing() {
     let mut rng = robovac::grid::maps::SplitMix64::new(11);
     let (map, start) =
-        host_sim::bench::table2_instance(30, 50, robovac::grid::maps::TABLE2_MAP, &mut rng)
+        host_sim::run::bench::table2_instance(30, 50, robovac::grid::maps::TABLE2_MAP, &mut rng)
             .unwrap();
     for kind in ALL_PLANNERS {
         let mut g1 = new_grid();
@@ -298,9 +302,13 @@ fn full_list_keeps_coverage_complete() {
     type Tiny = Coverage<4096, 128, 4096, 4, 4096>;
     let mut rng = robovac::grid::maps::SplitMix64::new(3);
     for kind in ALL_PLANNERS {
-        let (map, start) =
-            host_sim::bench::table2_instance(30, 50, robovac::grid::maps::TABLE2_MAP, &mut rng)
-                .unwrap();
+        let (map, start) = host_sim::run::bench::table2_instance(
+            30,
+            50,
+            robovac::grid::maps::TABLE2_MAP,
+            &mut rng,
+        )
+        .unwrap();
         let mut grid: Box<Grid<128>> = Box::new(Grid::new());
         map.to_grid(&mut *grid).unwrap();
         let mut p: Box<Tiny> = Box::new(Tiny::new(kind));
@@ -374,7 +382,7 @@ fn obstacles_appearing_mid_run_are_handled_without_restart() {
 #[test]
 fn papers_claims_hold_in_direction_on_wide_maps() {
     // A small Table 2 run: our variant cuts repeated travel against B-OHA*.
-    let rows = host_sim::bench::table2(
+    let rows = host_sim::run::bench::table2(
         20,
         9,
         robovac::grid::maps::TABLE2_MAP,
@@ -382,7 +390,7 @@ fn papers_claims_hold_in_direction_on_wide_maps() {
         |_, _| {},
     )
     .unwrap();
-    for (label, _, _) in host_sim::bench::TABLE2_SIZES {
+    for (label, _, _) in host_sim::run::bench::TABLE2_SIZES {
         let get = |k: PlannerKind, m: &str| {
             rows.iter()
                 .find(|r| r.0 == label && r.1 == k)
@@ -450,11 +458,11 @@ fn every_format_plans_completely() {
         ("flat.yaml", Some(0.3)),
         ("flat.png", Some(0.3)),
     ] {
-        let opts = host_sim::maps::LoadOptions {
+        let opts = host_sim::io::maps::LoadOptions {
             cell_m: cell,
             png_resolution_m: Some(0.15),
         };
-        let m = host_sim::maps::load_map(&dir.join(file), opts).unwrap();
+        let m = host_sim::io::maps::load_map(&dir.join(file), opts).unwrap();
         assert_eq!(m.blocked, map.blocked, "{file}");
         for p in check_all(&m, None) {
             assert_eq!(p.metrics.covered_cells, p.metrics.reachable_cells, "{file}");

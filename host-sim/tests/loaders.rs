@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use host_sim::capacity::new_grid;
-use host_sim::maps::{load_map, LoadOptions, MapData};
+use host_sim::io::maps::{load_map, LoadOptions, MapData};
 
 fn tmp(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("robovac-loaders-{}", std::process::id()));

@@ -4,9 +4,9 @@
 //! length matches the distance reported, coverage is measured on the
 //! truth, the robot ends at the dock.
 
-use host_sim::mission::{run_mission, suite_map, MissionOptions, MissionReport, MissionTrace};
-use host_sim::robot::{Noise, RobotConfig};
-use host_sim::world::World;
+use host_sim::run::mission::{run_mission, suite_map, MissionOptions, MissionReport, MissionTrace};
+use host_sim::sim::robot::{Noise, RobotConfig};
+use host_sim::sim::world::World;
 use robovac::coverage::PlannerKind;
 use robovac::mission::MapMode;
 

@@ -6,8 +6,8 @@
 use std::path::PathBuf;
 
 use host_sim::capacity::{new_grid, new_search};
-use host_sim::maps::{load_map, LoadOptions};
-use host_sim::metrics::check_polyline;
+use host_sim::io::maps::{load_map, LoadOptions};
+use host_sim::report::metrics::check_polyline;
 use robovac::{Algo, Cell};
 
 fn shared() -> Option<PathBuf> {
@@ -16,7 +16,7 @@ fn shared() -> Option<PathBuf> {
 }
 
 /// The two free cells farthest apart (by BFS) in the largest component.
-fn far_pair(m: &host_sim::maps::MapData) -> Option<(Cell, Cell)> {
+fn far_pair(m: &host_sim::io::maps::MapData) -> Option<(Cell, Cell)> {
     let (w, h) = (m.width as i32, m.height as i32);
     let mut comp = vec![u32::MAX; (w * h) as usize];
     let mut best: (usize, usize) = (0, 0);
@@ -114,9 +114,9 @@ fn real_maps_load_and_plan() {
             );
             seen += 1;
             if cell.is_some() {
-                for kind in host_sim::plan::ALL_PLANNERS {
-                    let p =
-                        host_sim::plan::plan(&m, kind, Some(s)).unwrap_or_else(|e| panic!("{e}"));
+                for kind in host_sim::run::plan::ALL_PLANNERS {
+                    let p = host_sim::run::plan::plan(&m, kind, Some(s))
+                        .unwrap_or_else(|e| panic!("{e}"));
                     let mut ck: Box<
                         robovac::verify::check::Checker<{ host_sim::capacity::HOST_WORDS }>,
                     > = Box::new(robovac::verify::check::Checker::new());

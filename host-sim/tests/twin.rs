@@ -1,10 +1,10 @@
 //! The physical twin: motors, encoders, collisions, the lidar's byte
 //! stream, and closed-loop drives measured against the truth.
 
-use host_sim::drive::{drive, parse_route, DriveOptions, Route};
-use host_sim::maps::MapData;
-use host_sim::robot::{Noise, RobotConfig, Sim};
-use host_sim::world::World;
+use host_sim::io::maps::MapData;
+use host_sim::run::drive::{drive, parse_route, DriveOptions, Route};
+use host_sim::sim::robot::{Noise, RobotConfig, Sim};
+use host_sim::sim::world::World;
 use robovac::robot::hal::{ByteSource, MotorDriver};
 use robovac::robot::lidar::ld06::Ld06;
 use robovac::robot::lidar::LidarProtocol;
@@ -28,7 +28,7 @@ fn room(w: u32, h: u32) -> MapData {
 
 fn studio() -> MapData {
     let p = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../maps/flat/studio.txt");
-    host_sim::maps::load_map(&p, Default::default()).unwrap()
+    host_sim::io::maps::load_map(&p, Default::default()).unwrap()
 }
 
 #[test]

@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use clap::ValueEnum;
-use host_sim::maps::{load_map, LoadOptions, MapData};
+use host_sim::io::maps::{load_map, LoadOptions, MapData};
 use robovac::{Algo, Cell};
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -94,11 +94,11 @@ pub fn write_file(path: &Path, text: &str) -> Result<(), String> {
     std::fs::write(path, text).map_err(|e| format!("{}: cannot write: {e}", path.display()))
 }
 
-impl From<NoiseArg> for host_sim::robot::Noise {
+impl From<NoiseArg> for host_sim::sim::robot::Noise {
     fn from(n: NoiseArg) -> Self {
         match n {
-            NoiseArg::None => host_sim::robot::Noise::None,
-            NoiseArg::Realistic => host_sim::robot::Noise::Realistic,
+            NoiseArg::None => host_sim::sim::robot::Noise::None,
+            NoiseArg::Realistic => host_sim::sim::robot::Noise::Realistic,
         }
     }
 }

@@ -118,7 +118,7 @@ fn cmd_table1(runs: usize, seed: u64, density: u32, corner: u32, json: bool) -> 
         ..robovac::grid::maps::TABLE1_MAP
     };
     let pb = progress::bar(runs, "maps");
-    let rows = host_sim::bench::table1(runs, seed, map, corner, |done, _| {
+    let rows = host_sim::run::bench::table1(runs, seed, map, corner, |done, _| {
         pb.set_position(done as u64);
     });
     pb.finish_and_clear();
@@ -186,7 +186,7 @@ fn cmd_table2(
     json: Option<&Path>,
     svg_dir: Option<&Path>,
 ) -> Result<(), String> {
-    use host_sim::bench::paper_table2;
+    use host_sim::run::bench::paper_table2;
     if runs == 0 {
         return Err("--runs must be at least 1".into());
     }
@@ -203,7 +203,7 @@ fn cmd_table2(
     };
     let mut svg_err = None;
     let pb = progress::bar(2 * runs, "maps");
-    let rows = host_sim::bench::table2(
+    let rows = host_sim::run::bench::table2(
         runs,
         seed,
         spec,
@@ -213,7 +213,11 @@ fn cmd_table2(
                     let f = d.join(format!("table2_{label}_{run}_{}.svg", p.kind.name()));
                     if let Err(e) = write_file(
                         &f,
-                        &host_sim::svg::plan_svg(map, p, &format!("Table 2 {label} map {run}")),
+                        &host_sim::report::svg::plan_svg(
+                            map,
+                            p,
+                            &format!("Table 2 {label} map {run}"),
+                        ),
                     ) {
                         svg_err = Some(e);
                     }
@@ -244,7 +248,7 @@ fn cmd_table2(
         "nodes_expanded",
         "backtrack_points_kept",
     ];
-    for (label, _, _) in host_sim::bench::TABLE2_SIZES {
+    for (label, _, _) in host_sim::run::bench::TABLE2_SIZES {
         let wide = label == "30x50";
         println!(
             "\n{label} ({})",
@@ -284,7 +288,7 @@ fn cmd_table2(
     }
     // The paper's claims, as measured ratios against our BA*.
     println!("\nratios against our BA* on the same maps (paper in brackets):");
-    for (label, _, _) in host_sim::bench::TABLE2_SIZES {
+    for (label, _, _) in host_sim::run::bench::TABLE2_SIZES {
         let get = |k: robovac::coverage::PlannerKind, m: &str| {
             rows.iter()
                 .find(|r| r.0 == label && r.1 == k)
@@ -336,7 +340,7 @@ fn cmd_table2(
             let mut t = agg.times_us.clone();
             means.insert(
                 "median_time_us".into(),
-                json!(host_sim::metrics::median(&mut t)),
+                json!(host_sim::report::metrics::median(&mut t)),
             );
             means.insert("min_coverage".into(), json!(agg.min_coverage));
             let entry = obj.entry(label.to_string()).or_insert_with(|| json!({}));
@@ -357,7 +361,7 @@ fn cmd_bench_missions(
     threads: Option<usize>,
     json: Option<&Path>,
 ) -> Result<(), String> {
-    use host_sim::mission::{report_json, run_suite, suite_cases};
+    use host_sim::run::mission::{report_json, run_suite, suite_cases};
     if runs == 0 {
         return Err("--runs must be at least 1".into());
     }
@@ -421,7 +425,7 @@ fn cmd_bench_missions(
         }
     }
     for g in &groups {
-        let sel: Vec<&host_sim::mission::MissionReport> = rows
+        let sel: Vec<&host_sim::run::mission::MissionReport> = rows
             .iter()
             .filter(|(c, _)| {
                 c.map == g.0
@@ -431,7 +435,7 @@ fn cmd_bench_missions(
             .map(|(_, r)| *r)
             .collect();
         let n = sel.len() as f64;
-        let mean = |f: &dyn Fn(&host_sim::mission::MissionReport) -> f64| {
+        let mean = |f: &dyn Fn(&host_sim::run::mission::MissionReport) -> f64| {
             sel.iter().map(|r| f(r)).sum::<f64>() / n
         };
         println!(
@@ -463,7 +467,7 @@ fn cmd_bench_missions(
     ] {
         let sel: Vec<_> = rows
             .iter()
-            .filter(|(c, _)| c.mode == mode && c.noise == host_sim::robot::Noise::None)
+            .filter(|(c, _)| c.mode == mode && c.noise == host_sim::sim::robot::Noise::None)
             .collect();
         if sel.is_empty() {
             continue;
@@ -508,10 +512,10 @@ fn cmd_bench_missions(
 /// `bench wheel-step`.
 fn cmd_wheel_step(seed: u64) -> Result<(), String> {
     for (name, n) in [
-        ("none", host_sim::robot::Noise::None),
-        ("realistic", host_sim::robot::Noise::Realistic),
+        ("none", host_sim::sim::robot::Noise::None),
+        ("realistic", host_sim::sim::robot::Noise::Realistic),
     ] {
-        let (rise, over, ss) = host_sim::drive::step_response(n, 0.3, seed);
+        let (rise, over, ss) = host_sim::run::drive::step_response(n, 0.3, seed);
         println!("wheel step 0 -> 0.3 m/s, noise {name:<9}: rise time (10-90 %) {:.0} ms, overshoot {:.1} %, steady-state error {:.2} %", rise * 1e3, over * 100.0, ss * 100.0);
     }
     Ok(())

@@ -13,14 +13,14 @@ pub fn run() -> Result<(), String> {
 
 /// `host-sim demo`: the product at work.
 fn cmd_demo() -> Result<(), String> {
-    use host_sim::mission::{mission_svg, run_mission, suite_map, summary, MissionOptions};
+    use host_sim::run::mission::{mission_svg, run_mission, suite_map, summary, MissionOptions};
     let map = suite_map("home")?;
     let opts = MissionOptions {
         map,
         cell_m: 0.1,
         mode: robovac::mission::MapMode::Known,
         people: 2,
-        noise: host_sim::robot::Noise::None,
+        noise: host_sim::sim::robot::Noise::None,
         seed: 1,
         max_time_s: 5400.0,
         start: None,

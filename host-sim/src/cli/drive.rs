@@ -51,7 +51,7 @@ pub fn run(a: Args) -> Result<(), String> {
     } = &a;
     let (route, seed, noise, people, corrupt) = (route.as_str(), *seed, *noise, *people, *corrupt);
     let (svg, json, capture) = (svg.as_deref(), json.as_deref(), capture.as_deref());
-    use host_sim::drive::{drive, drive_svg, parse_route, DriveOptions, Route};
+    use host_sim::run::drive::{drive, drive_svg, parse_route, DriveOptions, Route};
     let (map, cell_m) = load_world_map(args)?;
     let route = if route == "square" {
         Route::Square {
@@ -60,7 +60,7 @@ pub fn run(a: Args) -> Result<(), String> {
         }
     } else if let Some(name) = route.strip_prefix("plan:") {
         Route::Plan(
-            host_sim::plan::planner_by_name(name)
+            host_sim::run::plan::planner_by_name(name)
                 .ok_or_else(|| format!("unknown planner {name:?} in --route plan:NAME"))?,
         )
     } else {
@@ -72,8 +72,8 @@ pub fn run(a: Args) -> Result<(), String> {
         return Err("--corrupt must be a share between 0 and 1".into());
     }
     let noise = match noise {
-        NoiseArg::None => host_sim::robot::Noise::None,
-        NoiseArg::Realistic => host_sim::robot::Noise::Realistic,
+        NoiseArg::None => host_sim::sim::robot::Noise::None,
+        NoiseArg::Realistic => host_sim::sim::robot::Noise::Realistic,
     };
     let t0 = Instant::now();
     let (rep, trace) = drive(DriveOptions {

@@ -59,13 +59,13 @@ pub fn run(a: Args) -> Result<(), String> {
         svg,
         events,
     } = a;
-    let kind = host_sim::plan::planner_by_name(&planner)
+    let kind = host_sim::run::plan::planner_by_name(&planner)
         .ok_or_else(|| format!("unknown planner {planner:?}"))?;
     if !(max_time.is_finite() && max_time > 0.0) {
         return Err("--max-time must be a positive number of seconds".into());
     }
     let (data, cell_m) = load_world_map(&map)?;
-    let opts = host_sim::mission::MissionOptions {
+    let opts = host_sim::run::mission::MissionOptions {
         map: data,
         cell_m,
         mode: mode.into(),
@@ -88,13 +88,13 @@ pub fn run(a: Args) -> Result<(), String> {
 
 /// Runs one mission with a progress line on a terminal.
 fn cmd_mission(
-    opts: &host_sim::mission::MissionOptions,
+    opts: &host_sim::run::mission::MissionOptions,
     name: &str,
     json: Option<&Path>,
     svg: Option<&Path>,
     events: bool,
 ) -> Result<(), String> {
-    use host_sim::mission::{events_json, mission_svg, report_json, run_mission, summary};
+    use host_sim::run::mission::{events_json, mission_svg, report_json, run_mission, summary};
     let pb = progress::status();
     let (rep, trace, floor) = run_mission(opts, |t, state, cov| {
         pb.set_message(format!(

@@ -41,12 +41,12 @@ fn cmd_plan(
     json: Option<&Path>,
     svg: Option<&Path>,
 ) -> Result<(), String> {
-    let kind = host_sim::plan::planner_by_name(planner)
+    let kind = host_sim::run::plan::planner_by_name(planner)
         .ok_or_else(|| format!("unknown planner {planner:?} (b-oha, ba, b-theta, b-oha-pc)"))?;
     let map = args.load()?;
-    let p = host_sim::plan::plan(&map, kind, start)
+    let p = host_sim::run::plan::plan(&map, kind, start)
         .map_err(|e| format!("{}: {e}", args.map.display()))?;
-    let m = host_sim::plan::metrics_json(&p);
+    let m = host_sim::run::plan::metrics_json(&p);
     println!(
         "planner {} on {} ({}x{} cells)",
         kind.name(),
@@ -60,12 +60,12 @@ fn cmd_plan(
         }
     }
     if let Some(f) = json {
-        write_file(f, &host_sim::plan::plan_json(&map, &p).to_string())?;
+        write_file(f, &host_sim::run::plan::plan_json(&map, &p).to_string())?;
     }
     if let Some(f) = svg {
         write_file(
             f,
-            &host_sim::svg::plan_svg(&map, &p, &args.map.display().to_string()),
+            &host_sim::report::svg::plan_svg(&map, &p, &args.map.display().to_string()),
         )?;
     }
     Ok(())

@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use super::args::{AlgoArg, MapArgs};
-use host_sim::scen::{parse_scen, run_scen};
+use host_sim::io::scen::{parse_scen, run_scen};
 use robovac::Algo;
 use serde_json::json;
 

@@ -4,8 +4,8 @@ use std::time::Instant;
 
 use super::args::{parse_cell, AlgoArg, MapArgs};
 use host_sim::capacity::{new_grid, new_search};
-use host_sim::metrics::polyline_length;
-use host_sim::scen::algo_name;
+use host_sim::io::scen::algo_name;
+use host_sim::report::metrics::polyline_length;
 use robovac::search::prune::prune;
 use robovac::{Algo, Cell};
 use serde_json::json;

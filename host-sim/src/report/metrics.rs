@@ -3,7 +3,7 @@
 use robovac::grid::los::supercover;
 use robovac::Cell;
 
-use crate::maps::MapData;
+use crate::io::maps::MapData;
 
 /// Euclidean length of a polyline, in cells (exact to f64).
 pub fn polyline_length(path: &[Cell]) -> f64 {

@@ -7,8 +7,8 @@ use robovac::search::prune::prune;
 use robovac::{Algo, Cell};
 
 use crate::capacity::{new_grid, new_search};
-use crate::maps::{MapData, MapError};
-use crate::metrics::{median, polyline_length};
+use crate::io::maps::{MapData, MapError};
+use crate::report::metrics::{median, polyline_length};
 
 /// One scenario problem.
 #[derive(Clone, Debug, PartialEq)]
@@ -182,9 +182,9 @@ pub fn run_scen(map: &MapData, problems: &[Problem], algo: Algo) -> Result<ScenR
         let m = prune(&*grid, &mut path[..n]);
         pruned.push(polyline_length(&path[..m]));
     }
-    rep.mean_cost_ratio = crate::metrics::mean(&ratios);
-    rep.mean_nodes_expanded = crate::metrics::mean(&nodes);
+    rep.mean_cost_ratio = crate::report::metrics::mean(&ratios);
+    rep.mean_nodes_expanded = crate::report::metrics::mean(&nodes);
     rep.median_query_us = median(&mut times);
-    rep.mean_pruned_cost = crate::metrics::mean(&pruned);
+    rep.mean_pruned_cost = crate::report::metrics::mean(&pruned);
     Ok(rep)
 }

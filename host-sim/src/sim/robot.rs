@@ -11,7 +11,7 @@ use robovac::robot::lidar::ld06;
 use robovac::robot::odometry::DriveGeometry;
 use robovac::robot::wheel_control::WheelGains;
 
-use crate::world::World;
+use crate::sim::world::World;
 
 /// The LD06 on our robot: at the centre, angles clockwise from forward.
 pub const MOUNT: robovac::robot::lidar_map::LidarMount =

@@ -7,7 +7,7 @@ use robovac::search::prune::prune;
 use robovac::{Algo, Cell};
 
 use crate::capacity::{new_grid, new_search};
-use crate::metrics::{mean, polyline_length};
+use crate::report::metrics::{mean, polyline_length};
 
 /// One algorithm's row of Table 1.
 #[derive(Clone, Debug, Default)]
@@ -157,7 +157,7 @@ impl Table2Agg {
         self.sums.get(k).copied().unwrap_or(0.0) / self.runs.max(1) as f64
     }
 
-    fn add(&mut self, p: &crate::plan::Plan) {
+    fn add(&mut self, p: &crate::run::plan::Plan) {
         let m = &p.metrics;
         let cells = |c: u64| c as f64 / robovac::math::cost::COST_PER_CELL as f64;
         let vals: [(&'static str, f64); 13] = [
@@ -210,7 +210,7 @@ pub fn table2_instance(
     height: u32,
     spec: robovac::grid::maps::RandomMap,
     rng: &mut SplitMix64,
-) -> Option<(crate::maps::MapData, Cell)> {
+) -> Option<(crate::io::maps::MapData, Cell)> {
     let mut grid = Box::new(robovac::Grid::<{ robovac::math::bits::words_for(4096) }>::new());
     let spec = robovac::grid::maps::RandomMap {
         width,
@@ -224,7 +224,7 @@ pub fn table2_instance(
             blocked.push(grid.is_blocked(x, y));
         }
     }
-    let map = crate::maps::MapData {
+    let map = crate::io::maps::MapData {
         width,
         height,
         blocked,
@@ -241,10 +241,10 @@ pub fn table2(
     runs: usize,
     seed: u64,
     spec: robovac::grid::maps::RandomMap,
-    mut each: impl FnMut(&str, usize, &crate::maps::MapData, &crate::plan::Plan),
+    mut each: impl FnMut(&str, usize, &crate::io::maps::MapData, &crate::run::plan::Plan),
     mut progress: impl FnMut(usize, usize),
 ) -> Result<Vec<(&'static str, robovac::coverage::PlannerKind, Table2Agg)>, String> {
-    use crate::plan::{new_planner, plan_on, ALL_PLANNERS};
+    use crate::run::plan::{new_planner, plan_on, ALL_PLANNERS};
     let mut out = Vec::new();
     let mut planners: Vec<_> = ALL_PLANNERS.iter().map(|&k| new_planner(k)).collect();
     let mut grid = crate::capacity::new_grid();

@@ -12,11 +12,11 @@ use robovac::robot::odometry::{Odometry, Pose};
 use robovac::robot::wheel_control::WheelControl;
 
 use crate::capacity::{HOST_EVIDENCE, SCAN_FRAMES};
-use crate::maps::MapData;
-use crate::robot::MOUNT;
-use crate::robot::{Noise, RobotConfig, Sim};
-use crate::svg::Canvas;
-use crate::world::World;
+use crate::io::maps::MapData;
+use crate::report::svg::Canvas;
+use crate::sim::robot::MOUNT;
+use crate::sim::robot::{Noise, RobotConfig, Sim};
+use crate::sim::world::World;
 
 /// A route.
 #[derive(Clone, Debug)]
@@ -221,7 +221,7 @@ pub fn drive(opts: DriveOptions) -> Result<(DriveReport, DriveTrace), String> {
         Route::Points(p) => p.clone(),
         Route::Plan(kind) => {
             let pm = planner_map(&world, r + 0.01);
-            let plan = crate::plan::plan(&pm, *kind, None)?;
+            let plan = crate::run::plan::plan(&pm, *kind, None)?;
             let hm = world.size_m().1;
             plan.waypoints
                 .iter()
@@ -279,7 +279,7 @@ pub fn drive(opts: DriveOptions) -> Result<(DriveReport, DriveTrace), String> {
     let mut buf = [0u8; 512];
     let mut settle = 0u32;
     let mut waypoint_since_us = 0u64;
-    let mut floor = crate::floor::Floor::new(&sim.world, start, r, 0.05);
+    let mut floor = crate::sim::floor::Floor::new(&sim.world, start, r, 0.05);
     let mm = |p: (f64, f64)| ((p.0 * 1000.0).round() as i32, (p.1 * 1000.0).round() as i32);
     let mut queue: Box<SubPaths<64>> = Box::new(SubPaths::new());
     queue.reset(mm(start));

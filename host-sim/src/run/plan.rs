@@ -10,7 +10,7 @@ use robovac::Cell;
 use crate::capacity::{
     new_grid, HostGrid, HOST_CELLS, HOST_LCAP, HOST_OPEN, HOST_PCAP, HOST_WORDS,
 };
-use crate::maps::MapData;
+use crate::io::maps::MapData;
 
 /// The host coverage planner.
 pub type HostCoverage = Coverage<HOST_CELLS, HOST_WORDS, HOST_OPEN, HOST_LCAP, HOST_PCAP>;

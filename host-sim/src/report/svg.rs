@@ -7,8 +7,8 @@ use std::fmt::Write;
 
 use robovac::verify::metrics::SegmentKind;
 
-use crate::maps::MapData;
-use crate::plan::Plan;
+use crate::io::maps::MapData;
+use crate::run::plan::Plan;
 
 /// Renders a plan on its map.
 pub fn plan_svg(map: &MapData, p: &Plan, title: &str) -> String {

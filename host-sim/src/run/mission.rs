@@ -13,11 +13,11 @@ use robovac::robot::odometry::Pose;
 use robovac::Cell;
 
 use crate::capacity::{new_grid, HostGrid, HOST_EVIDENCE};
-use crate::floor::Floor;
-use crate::maps::MapData;
-use crate::robot::{Noise, RobotConfig, Sim, MOUNT};
-use crate::svg::Canvas;
-use crate::world::World;
+use crate::io::maps::MapData;
+use crate::report::svg::Canvas;
+use crate::sim::floor::Floor;
+use crate::sim::robot::{Noise, RobotConfig, Sim, MOUNT};
+use crate::sim::world::World;
 
 /// Evidence (and fine planning) cell side, mm.
 pub const EVIDENCE_MM: u32 = 50;
@@ -137,7 +137,7 @@ pub fn default_start(world: &World, r: f64) -> Option<(f64, f64)> {
 
 /// The host's planning buffers.
 pub struct HostParts {
-    planner: Box<crate::plan::HostCoverage>,
+    planner: Box<crate::run::plan::HostCoverage>,
     search: Box<crate::capacity::HostSearch>,
     coarse: Box<HostGrid>,
     fine: Box<HostGrid>,
@@ -150,7 +150,7 @@ impl HostParts {
     /// Fresh buffers.
     pub fn new(kind: PlannerKind) -> Self {
         Self {
-            planner: crate::plan::new_planner(kind),
+            planner: crate::run::plan::new_planner(kind),
             search: crate::capacity::new_search(),
             coarse: new_grid(),
             fine: new_grid(),
@@ -608,9 +608,9 @@ pub fn mission_svg(
 
 /// A built-in mission map: name, ASCII text (0.1 m cells).
 pub const SUITE_MAPS: [(&str, &str); 3] = [
-    ("studio", include_str!("../../maps/flat/studio.txt")),
-    ("home", include_str!("../../maps/flat/home.txt")),
-    ("office", include_str!("../../maps/flat/office.txt")),
+    ("studio", include_str!("../../../maps/flat/studio.txt")),
+    ("home", include_str!("../../../maps/flat/home.txt")),
+    ("office", include_str!("../../../maps/flat/office.txt")),
 ];
 
 /// A built-in map as map data (0.1 m cells).
@@ -619,7 +619,7 @@ pub fn suite_map(name: &str) -> Result<MapData, String> {
         .iter()
         .find(|(n, _)| *n == name)
         .ok_or_else(|| format!("no built-in map {name:?}"))?;
-    crate::maps::parse_ascii(std::path::Path::new(name), text.as_bytes())
+    crate::io::maps::parse_ascii(std::path::Path::new(name), text.as_bytes())
         .map(|mut m| {
             m.cell_m = Some(0.1);
             m

@@ -6,7 +6,7 @@
 
 use robovac::grid::maps::SplitMix64;
 
-use crate::maps::MapData;
+use crate::io::maps::MapData;
 
 /// A person: a disc walking a loop of waypoints.
 #[derive(Clone, Debug)]

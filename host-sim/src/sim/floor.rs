@@ -4,7 +4,7 @@
 //! the start); the swept floor is the union of the body's disc along the
 //! true trajectory (the cleaning width is the body's width).
 
-use crate::world::World;
+use crate::sim::world::World;
 
 /// Fine cells of the floor.
 pub struct Floor {

@@ -1,0 +1,5 @@
+//! Files in: map loaders (MovingAI, ROS YAML + PGM, PNG, ASCII) and
+//! MovingAI scenarios. Uses the core only.
+
+pub mod maps;
+pub mod scen;

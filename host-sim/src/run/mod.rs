@@ -1,0 +1,7 @@
+//! Running the core: coverage plans, drives, missions and the benchmark
+//! suites, measured. Uses `io`, `sim`, `report` and `capacity`.
+
+pub mod bench;
+pub mod drive;
+pub mod mission;
+pub mod plan;

@@ -1,0 +1,6 @@
+//! The physical twin: the world with its people, the robot's motors,
+//! encoders and lidar bytes, and the floor swept as truth. Uses `io`.
+
+pub mod floor;
+pub mod robot;
+pub mod world;
