@@ -168,63 +168,15 @@ pub fn run_mission(
 ) -> Result<(MissionReport, MissionTrace, Floor), String> {
     let t0 = Instant::now();
     let cfg = RobotConfig::default();
-    let mut world = World::new(opts.map.clone(), opts.cell_m);
     let r = cfg.diameter_m / 2.0;
-    let start = match opts.start {
-        Some(s) => s,
-        None => default_start(&world, r).ok_or("no free spot for the robot on this map")?,
-    };
-    if world.disc_hits_wall(start.0, start.1, r + 0.01) {
-        return Err(format!(
-            "the start ({:.2}, {:.2}) m is too close to a wall for the robot",
-            start.0, start.1
-        ));
-    }
-    let mut rng = robovac::grid::maps::SplitMix64::new(opts.seed ^ 0x5EED);
-    world.add_people(opts.people, &mut rng);
-    // People do not start on the dock.
-    for p in &mut world.people {
-        if (p.pos.0 - start.0).hypot(p.pos.1 - start.1) < 0.6 {
-            p.next = (p.next + 1) % p.waypoints.len();
-        }
-    }
-    let heading = 0.0;
-    let pose = (start.0, start.1, heading);
+    let mut world = World::new(opts.map.clone(), opts.cell_m);
+    let start = place_dock(opts, &mut world, r)?;
+    let pose = (start.0, start.1, 0.0);
     let mut sim = Sim::new(cfg.clone(), world, pose, opts.noise, opts.seed);
     let mut floor = Floor::new(&sim.world, start, r, 0.05);
-    // The core.
-    let mut mcfg = MissionConfig::new(opts.mode, cfg.geometry(), cfg.gains, MOUNT);
-    mcfg.kind = opts.kind;
-    mcfg.radius_mm = (r * 1000.0).round() as i32;
-    // The robot's margins follow its lidar's range noise (the firmware is
-    // configured for its sensor; the ideal one has none).
-    if opts.noise == Noise::Realistic {
-        mcfg = mcfg.with_lidar_noise((cfg.lidar_noise_m * 1000.0).round() as i32);
-    }
     let mut hp = HostParts::new(opts.kind);
-    let (wm, hm) = sim.world.size_m();
-    let (ew, eh) = (
-        ((wm * 1000.0).round() as u32).div_ceil(EVIDENCE_MM),
-        ((hm * 1000.0).round() as u32).div_ceil(EVIDENCE_MM),
-    );
-    hp.map
-        .reset(ew, eh, EVIDENCE_MM)
-        .map_err(|e| format!("map too large for the evidence map: {e}"))?;
-    if opts.mode == MapMode::Known {
-        let res = EVIDENCE_MM as f64 / 1000.0;
-        for cy in 0..eh as i32 {
-            for cx in 0..ew as i32 {
-                let (x, y) = ((cx as f64 + 0.5) * res, (eh as f64 - cy as f64 - 0.5) * res);
-                let st = if sim.world.blocked_at(x, y) {
-                    CellState::Occupied
-                } else {
-                    CellState::Free
-                };
-                hp.map.set_state(cx, cy, st);
-            }
-        }
-    }
-    let mut mission = Box::new(Mission::new(mcfg));
+    prior_map(&mut hp, &sim.world, opts.mode)?;
+    let mut mission = Box::new(Mission::new(mission_config(opts, &cfg, r)));
     let mut parts = Parts {
         planner: &mut hp.planner,
         search: &mut hp.search,
@@ -233,23 +185,13 @@ pub fn run_mission(
         map: &mut hp.map,
         path: &mut hp.path,
     };
-    mission.begin(
-        &mut parts,
-        Pose {
-            x_mm: (start.0 * 1000.0).round() as i32,
-            y_mm: (start.1 * 1000.0).round() as i32,
-            theta_mrad: 0,
-        },
-    );
-    if std::env::var_os("ROBOVAC_DEBUG_GRID").is_some() {
-        let g = &*parts.coarse;
-        for y in 0..g.height() as i32 {
-            let row: String = (0..g.width() as i32)
-                .map(|x| if g.is_blocked(x, y) { '#' } else { '.' })
-                .collect();
-            eprintln!("{row}");
-        }
-    }
+    let dock = Pose {
+        x_mm: (start.0 * 1000.0).round() as i32,
+        y_mm: (start.1 * 1000.0).round() as i32,
+        theta_mrad: 0,
+    };
+    mission.begin(&mut parts, dock);
+    debug_grid(&parts, false);
     let mut rep = MissionReport {
         min_clearance_m: f64::INFINITY,
         min_wall_clearance_m: f64::INFINITY,
@@ -260,106 +202,21 @@ pub fn run_mission(
         ..Default::default()
     };
     let max_us = (opts.max_time_s * 1e6) as u64;
-    let mut buf = [0u8; 512];
-    let mut last_avoid = 0u32;
     let mut next_progress = 10_000_000u64;
-    let steps = cfg.control_period_us / cfg.physics_step_us;
     let trace_on = std::env::var_os("ROBOVAC_DEBUG_TRACE").is_some();
     let mut seen_collisions = 0usize;
     while sim.t_us < max_us && !mission.finished() {
-        for _ in 0..steps {
-            sim.step();
-        }
-        // Lidar bytes that arrived during the period, then the tick.
-        loop {
-            let n = sim.read(&mut buf);
-            if n == 0 {
-                break;
-            }
-            let t = sim.t_us as f64 * 1e-6;
-            let silent = opts.lidar_gap_s.is_some_and(|(a, b)| t >= a && t < b);
-            if !silent {
-                mission.feed_lidar(&mut parts, buf.get(..n).unwrap_or(&[]), sim.t_us);
-            }
-        }
-        let (l, rr) = sim.read_encoders();
-        match mission.tick(&mut parts, sim.t_us, (l, rr)) {
-            MotorCmd::Duty(a, b) => sim.set_duty(a, b),
-            MotorCmd::Brake => sim.brake(),
-        }
+        control_period(&mut sim, &mut mission, &mut parts, opts);
         while let Some(e) = mission.pop_event() {
             trace.events.push(e);
         }
         if trace_on && sim.collisions.len() > seen_collisions {
             seen_collisions = sim.collisions.len();
-            if let Some(c) = sim.collisions.last() {
-                eprintln!(
-                    "COLLISION t {:.2} by_person {} robot ({:.3},{:.3},{:.2}) state {:?} wheels {:?} people {:?}",
-                    c.t_s,
-                    c.by_person,
-                    sim.pose.0,
-                    sim.pose.1,
-                    sim.pose.2,
-                    mission.state(),
-                    sim.wheel_speeds(),
-                    sim.world.people.iter().map(|p| (p.pos, p.waited_s)).collect::<Vec<_>>()
-                );
-            }
+            debug_collision(&sim, &mission);
         }
-        let st = mission.state();
-        let key = match st {
-            State::Failed(_) => "Failed".to_string(),
-            s => format!("{s:?}"),
-        };
-        *rep.state_time_s.entry(key).or_insert(0.0) += cfg.control_period_us as f64 * 1e-6;
-        // Truth measurements.
-        let (x, y, _) = sim.pose;
-        floor.sweep(x, y);
-        let wall = sim.world.wall_distance(x, y, 1.0) - r;
-        rep.min_wall_clearance_m = rep.min_wall_clearance_m.min(wall);
-        let person = sim
-            .world
-            .people
-            .iter()
-            .map(|p| (p.pos.0 - x).hypot(p.pos.1 - y) - p.radius_m - r)
-            .fold(f64::INFINITY, f64::min);
-        rep.min_clearance_m = rep.min_clearance_m.min(wall.min(person));
-        let c = mission.counters();
-        if c.avoidance_events > last_avoid {
-            last_avoid = c.avoidance_events;
-            trace.avoidances.push((x, y));
-        }
+        measure(&sim, &mission, &mut floor, &mut rep, &mut trace, r);
         if trace_on && sim.t_us.is_multiple_of(1_000_000) {
-            eprintln!(
-                "t {:.0} {:?} {:?} truth ({:.2},{:.2},{:.2}) dwa {:?} front {:?} {:?}",
-                sim.t_us as f64 * 1e-6,
-                mission.state(),
-                mission.corridor_status(),
-                x,
-                y,
-                sim.pose.2,
-                mission.dwa_command(),
-                mission.current_subpath(),
-                mission.counters()
-            );
-            for p in &sim.world.people {
-                eprintln!(
-                    "   person ({:.2},{:.2}) waited {:.1}",
-                    p.pos.0, p.pos.1, p.waited_s
-                );
-            }
-            eprintln!(
-                "   pose {:?} near {:?}",
-                mission.pose(),
-                mission.points_near(260).take(4).collect::<Vec<_>>()
-            );
-            eprintln!(
-                "   planner nodes {} {:?} pos {:?} list {}",
-                parts.planner.last_step_nodes(),
-                parts.planner.stats(),
-                parts.planner.position(),
-                parts.planner.backtrack_list().len()
-            );
+            debug_tick(&sim, &mission, &parts);
         }
         if sim.t_us >= next_progress {
             next_progress += 10_000_000;
@@ -367,24 +224,168 @@ pub fn run_mission(
         }
     }
     progress(sim.t_us as f64 * 1e-6, mission.state(), floor.coverage());
-    if std::env::var_os("ROBOVAC_DEBUG_GRID").is_some() {
-        let g = &*parts.coarse;
-        for y in 0..g.height() as i32 {
-            let row: String = (0..g.width() as i32)
-                .map(|x| {
-                    if g.is_blocked(x, y) {
-                        '#'
-                    } else if g.get(robovac::grid::Layer::Covered, x, y) {
-                        'c'
-                    } else {
-                        '.'
-                    }
-                })
-                .collect();
-            eprintln!("{row}");
-        }
-        eprintln!("{:?}", parts.planner.stats());
+    debug_grid(&parts, true);
+    finish_report(&mut rep, &mission, &sim, &floor, start, &cfg);
+    trace.truth = std::mem::take(&mut sim.trajectory);
+    trace.people = sim.world.people.iter().map(|p| p.track.clone()).collect();
+    trace.collisions = sim
+        .collisions
+        .iter()
+        .map(|c| (c.pos, c.by_person))
+        .collect();
+    rep.wall_time_s = t0.elapsed().as_secs_f64();
+    Ok((rep, trace, floor))
+}
+
+/// The host's buffers lent to the executive.
+type HostMissionParts<'a> = Parts<
+    'a,
+    { crate::capacity::HOST_CELLS },
+    { crate::capacity::HOST_WORDS },
+    { crate::capacity::HOST_OPEN },
+    { crate::capacity::HOST_LCAP },
+    { crate::capacity::HOST_PCAP },
+    HOST_EVIDENCE,
+>;
+
+/// The dock: the given start or a free spot near the centre, clear of
+/// walls; people are added and none starts on it.
+fn place_dock(opts: &MissionOptions, world: &mut World, r: f64) -> Result<(f64, f64), String> {
+    let start = match opts.start {
+        Some(s) => s,
+        None => default_start(world, r).ok_or("no free spot for the robot on this map")?,
+    };
+    if world.disc_hits_wall(start.0, start.1, r + 0.01) {
+        return Err(format!(
+            "the start ({:.2}, {:.2}) m is too close to a wall for the robot",
+            start.0, start.1
+        ));
     }
+    let mut rng = robovac::grid::maps::SplitMix64::new(opts.seed ^ 0x5EED);
+    world.add_people(opts.people, &mut rng);
+    for p in &mut world.people {
+        if (p.pos.0 - start.0).hypot(p.pos.1 - start.1) < 0.6 {
+            p.next = (p.next + 1) % p.waypoints.len();
+        }
+    }
+    Ok(start)
+}
+
+/// The executive's configuration for this robot. Its margins follow its
+/// lidar's range noise (the firmware is configured for its sensor; the
+/// ideal one has none).
+fn mission_config(opts: &MissionOptions, cfg: &RobotConfig, r: f64) -> MissionConfig {
+    let mut mcfg = MissionConfig::new(opts.mode, cfg.geometry(), cfg.gains, MOUNT);
+    mcfg.kind = opts.kind;
+    mcfg.radius_mm = (r * 1000.0).round() as i32;
+    if opts.noise == Noise::Realistic {
+        mcfg = mcfg.with_lidar_noise((cfg.lidar_noise_m * 1000.0).round() as i32);
+    }
+    mcfg
+}
+
+/// Sizes the evidence map to the world; known mode fills it with the floor
+/// plan.
+fn prior_map(hp: &mut HostParts, world: &World, mode: MapMode) -> Result<(), String> {
+    let (wm, hm) = world.size_m();
+    let (ew, eh) = (
+        ((wm * 1000.0).round() as u32).div_ceil(EVIDENCE_MM),
+        ((hm * 1000.0).round() as u32).div_ceil(EVIDENCE_MM),
+    );
+    hp.map
+        .reset(ew, eh, EVIDENCE_MM)
+        .map_err(|e| format!("map too large for the evidence map: {e}"))?;
+    if mode != MapMode::Known {
+        return Ok(());
+    }
+    let res = EVIDENCE_MM as f64 / 1000.0;
+    for cy in 0..eh as i32 {
+        for cx in 0..ew as i32 {
+            let (x, y) = ((cx as f64 + 0.5) * res, (eh as f64 - cy as f64 - 0.5) * res);
+            let st = if world.blocked_at(x, y) {
+                CellState::Occupied
+            } else {
+                CellState::Free
+            };
+            hp.map.set_state(cx, cy, st);
+        }
+    }
+    Ok(())
+}
+
+/// One control period: physics, the lidar bytes that arrived (unless in
+/// the requested gap), then the executive's tick and the motors.
+fn control_period(
+    sim: &mut Sim,
+    mission: &mut Mission,
+    parts: &mut HostMissionParts<'_>,
+    opts: &MissionOptions,
+) {
+    let steps = sim.cfg.control_period_us / sim.cfg.physics_step_us;
+    for _ in 0..steps {
+        sim.step();
+    }
+    let mut buf = [0u8; 512];
+    loop {
+        let n = sim.read(&mut buf);
+        if n == 0 {
+            break;
+        }
+        let t = sim.t_us as f64 * 1e-6;
+        let silent = opts.lidar_gap_s.is_some_and(|(a, b)| t >= a && t < b);
+        if !silent {
+            mission.feed_lidar(parts, buf.get(..n).unwrap_or(&[]), sim.t_us);
+        }
+    }
+    let (l, rr) = sim.read_encoders();
+    match mission.tick(parts, sim.t_us, (l, rr)) {
+        MotorCmd::Duty(a, b) => sim.set_duty(a, b),
+        MotorCmd::Brake => sim.brake(),
+    }
+}
+
+/// Truth measurements after a period: time per state, floor swept,
+/// clearances, where avoidances started.
+fn measure(
+    sim: &Sim,
+    mission: &Mission,
+    floor: &mut Floor,
+    rep: &mut MissionReport,
+    trace: &mut MissionTrace,
+    r: f64,
+) {
+    let key = match mission.state() {
+        State::Failed(_) => "Failed".to_string(),
+        s => format!("{s:?}"),
+    };
+    *rep.state_time_s.entry(key).or_insert(0.0) += sim.cfg.control_period_us as f64 * 1e-6;
+    let (x, y, _) = sim.pose;
+    floor.sweep(x, y);
+    let wall = sim.world.wall_distance(x, y, 1.0) - r;
+    rep.min_wall_clearance_m = rep.min_wall_clearance_m.min(wall);
+    let person = sim
+        .world
+        .people
+        .iter()
+        .map(|p| (p.pos.0 - x).hypot(p.pos.1 - y) - p.radius_m - r)
+        .fold(f64::INFINITY, f64::min);
+    rep.min_clearance_m = rep.min_clearance_m.min(wall.min(person));
+    let c = mission.counters();
+    if c.avoidance_events as usize > trace.avoidances.len() {
+        trace.avoidances.push((x, y));
+    }
+}
+
+/// The report's end-of-mission fields.
+fn finish_report(
+    rep: &mut MissionReport,
+    mission: &Mission,
+    sim: &Sim,
+    floor: &Floor,
+    start: (f64, f64),
+    cfg: &RobotConfig,
+) {
+    let r = cfg.diameter_m / 2.0;
     let state = mission.state();
     let c = mission.counters();
     rep.finished = state == State::Done;
@@ -407,6 +408,14 @@ pub fn run_mission(
     let pose = mission.pose();
     rep.odometry_error_mm =
         (x - pose.x_mm as f64 / 1000.0).hypot(y - pose.y_mm as f64 / 1000.0) * 1000.0;
+    rep.faults = faults(&c, state, rep.finished);
+    if rep.min_clearance_m.is_infinite() {
+        rep.min_clearance_m = 0.0;
+    }
+}
+
+/// Faults and notable events, counted.
+fn faults(c: &robovac::mission::Counters, state: State, finished: bool) -> Vec<(String, u64)> {
     let mut faults = vec![
         ("lidar_silences".to_string(), c.lidar_silences as u64),
         ("stalls".to_string(), c.stalls as u64),
@@ -419,22 +428,88 @@ pub fn run_mission(
     if let State::Failed(f) = state {
         faults.push((format!("failed: {}", f.as_str()), 1));
     }
-    if !rep.finished && !matches!(state, State::Failed(_)) {
+    if !finished && !matches!(state, State::Failed(_)) {
         faults.push(("time limit".to_string(), 1));
     }
-    rep.faults = faults;
-    if rep.min_clearance_m.is_infinite() {
-        rep.min_clearance_m = 0.0;
+    faults
+}
+
+/// `ROBOVAC_DEBUG_GRID`: the planning grid on stderr (`covered`: with the
+/// covered cells and the planner's counters).
+fn debug_grid(parts: &HostMissionParts<'_>, covered: bool) {
+    if std::env::var_os("ROBOVAC_DEBUG_GRID").is_none() {
+        return;
     }
-    trace.truth = std::mem::take(&mut sim.trajectory);
-    trace.people = sim.world.people.iter().map(|p| p.track.clone()).collect();
-    trace.collisions = sim
-        .collisions
-        .iter()
-        .map(|c| (c.pos, c.by_person))
-        .collect();
-    rep.wall_time_s = t0.elapsed().as_secs_f64();
-    Ok((rep, trace, floor))
+    let g = &*parts.coarse;
+    for y in 0..g.height() as i32 {
+        let row: String = (0..g.width() as i32)
+            .map(|x| {
+                if g.is_blocked(x, y) {
+                    '#'
+                } else if covered && g.get(robovac::grid::Layer::Covered, x, y) {
+                    'c'
+                } else {
+                    '.'
+                }
+            })
+            .collect();
+        eprintln!("{row}");
+    }
+    if covered {
+        eprintln!("{:?}", parts.planner.stats());
+    }
+}
+
+/// `ROBOVAC_DEBUG_TRACE`: a collision on stderr.
+fn debug_collision(sim: &Sim, mission: &Mission) {
+    if let Some(c) = sim.collisions.last() {
+        eprintln!(
+            "COLLISION t {:.2} by_person {} robot ({:.3},{:.3},{:.2}) state {:?} wheels {:?} people {:?}",
+            c.t_s,
+            c.by_person,
+            sim.pose.0,
+            sim.pose.1,
+            sim.pose.2,
+            mission.state(),
+            sim.wheel_speeds(),
+            sim.world.people.iter().map(|p| (p.pos, p.waited_s)).collect::<Vec<_>>()
+        );
+    }
+}
+
+/// `ROBOVAC_DEBUG_TRACE`: the executive's view every simulated second.
+fn debug_tick(sim: &Sim, mission: &Mission, parts: &HostMissionParts<'_>) {
+    let (x, y, th) = sim.pose;
+    eprintln!(
+        "t {:.0} {:?} {:?} truth ({:.2},{:.2},{:.2}) dwa {:?} front {:?} {:?}",
+        sim.t_us as f64 * 1e-6,
+        mission.state(),
+        mission.corridor_status(),
+        x,
+        y,
+        th,
+        mission.dwa_command(),
+        mission.current_subpath(),
+        mission.counters()
+    );
+    for p in &sim.world.people {
+        eprintln!(
+            "   person ({:.2},{:.2}) waited {:.1}",
+            p.pos.0, p.pos.1, p.waited_s
+        );
+    }
+    eprintln!(
+        "   pose {:?} near {:?}",
+        mission.pose(),
+        mission.points_near(260).take(4).collect::<Vec<_>>()
+    );
+    eprintln!(
+        "   planner nodes {} {:?} pos {:?} list {}",
+        parts.planner.last_step_nodes(),
+        parts.planner.stats(),
+        parts.planner.position(),
+        parts.planner.backtrack_list().len()
+    );
 }
 
 /// The report as JSON.
