@@ -203,32 +203,7 @@ pub fn drive(opts: DriveOptions) -> Result<(DriveReport, DriveTrace), String> {
     let cfg = RobotConfig::default();
     let mut world = World::new(opts.map.clone(), opts.cell_m);
     let r = cfg.diameter_m / 2.0;
-    let waypoints: Vec<(f64, f64)> = match &opts.route {
-        Route::Square { side_m, laps } => {
-            let (x, y) = square_spot(&world, *side_m, r)
-                .ok_or("no clear spot for the square on this map")?;
-            let mut v = vec![(x, y)];
-            for _ in 0..*laps {
-                v.extend([
-                    (x + side_m, y),
-                    (x + side_m, y + side_m),
-                    (x, y + side_m),
-                    (x, y),
-                ]);
-            }
-            v
-        }
-        Route::Points(p) => p.clone(),
-        Route::Plan(kind) => {
-            let pm = planner_map(&world, r + 0.01);
-            let plan = crate::run::plan::plan(&pm, *kind, None)?;
-            let hm = world.size_m().1;
-            plan.waypoints
-                .iter()
-                .map(|c| cell_centre_m(c.x as u32, c.y as u32, hm))
-                .collect()
-        }
-    };
+    let waypoints = route_waypoints(&opts.route, &world, r)?;
     if waypoints.len() < 2 {
         return Err("the route has fewer than two waypoints".into());
     }
@@ -383,10 +358,54 @@ pub fn drive(opts: DriveOptions) -> Result<(DriveReport, DriveTrace), String> {
     rep.collisions = sim.collisions.iter().filter(|c| !c.by_person).count();
     rep.parser = parser.stats();
     rep.scans = asm.scans;
-    // Map accuracy against the truth.
+    map_accuracy(&map, &sim.world, &mut rep);
+    rep.path_false_obstacle_rate = path_false_obstacles(&map, &sim.trajectory, r);
+    let trace = DriveTrace {
+        truth: sim.trajectory.clone(),
+        odom: odom_track,
+        map,
+        capture: sim.capture.take(),
+    };
+    Ok((rep, trace))
+}
+
+/// The route's waypoints (m): a square placed clear of walls, the given
+/// points, or a complete coverage plan of the map.
+fn route_waypoints(route: &Route, world: &World, r: f64) -> Result<Vec<(f64, f64)>, String> {
+    Ok(match route {
+        Route::Square { side_m, laps } => {
+            let (x, y) =
+                square_spot(world, *side_m, r).ok_or("no clear spot for the square on this map")?;
+            let mut v = vec![(x, y)];
+            for _ in 0..*laps {
+                v.extend([
+                    (x + side_m, y),
+                    (x + side_m, y + side_m),
+                    (x, y + side_m),
+                    (x, y),
+                ]);
+            }
+            v
+        }
+        Route::Points(p) => p.clone(),
+        Route::Plan(kind) => {
+            let pm = planner_map(world, r + 0.01);
+            let plan = crate::run::plan::plan(&pm, *kind, None)?;
+            let hm = world.size_m().1;
+            plan.waypoints
+                .iter()
+                .map(|c| cell_centre_m(c.x as u32, c.y as u32, hm))
+                .collect()
+        }
+    })
+}
+
+/// The map's accuracy against the truth: cells seen, classified correctly,
+/// false obstacles and false free space.
+fn map_accuracy(map: &EvidenceMap<HOST_EVIDENCE>, world: &World, rep: &mut DriveReport) {
     let (mut seen, mut correct, mut free_seen, mut false_obs, mut occ_seen, mut false_free) =
         (0usize, 0usize, 0usize, 0usize, 0usize, 0usize);
-    let resm = res as f64 / 1000.0;
+    let resm = map.res_mm() as f64 / 1000.0;
     for cy in 0..map.height() as i32 {
         for cx in 0..map.width() as i32 {
             let st = map.state(cx, cy);
@@ -397,7 +416,7 @@ pub fn drive(opts: DriveOptions) -> Result<(DriveReport, DriveTrace), String> {
                 (cx as f64 + 0.5) * resm,
                 (map.height() as f64 - cy as f64 - 0.5) * resm,
             );
-            let truth_occ = sim.world.blocked_at(x, y);
+            let truth_occ = world.blocked_at(x, y);
             seen += 1;
             if truth_occ == (st == CellState::Occupied) {
                 correct += 1;
@@ -415,9 +434,18 @@ pub fn drive(opts: DriveOptions) -> Result<(DriveReport, DriveTrace), String> {
     rep.map_correct_share = correct as f64 / seen.max(1) as f64;
     rep.map_false_obstacle_share = false_obs as f64 / free_seen.max(1) as f64;
     rep.map_false_free_share = false_free as f64 / occ_seen.max(1) as f64;
-    // Cells the body swept: truly free; how many does the map call occupied?
+}
+
+/// Of the cells the body swept (truly free), the share the map calls
+/// occupied.
+fn path_false_obstacles(
+    map: &EvidenceMap<HOST_EVIDENCE>,
+    trajectory: &[(f64, f64)],
+    r: f64,
+) -> f64 {
+    let resm = map.res_mm() as f64 / 1000.0;
     let mut swept = std::collections::HashSet::new();
-    for &(x, y) in &sim.trajectory {
+    for &(x, y) in trajectory {
         let rc = (r / resm).ceil() as i32;
         let (cx, cy) = map.cell_of((x * 1000.0) as i32, (y * 1000.0) as i32);
         for dy in -rc..=rc {
@@ -436,14 +464,7 @@ pub fn drive(opts: DriveOptions) -> Result<(DriveReport, DriveTrace), String> {
         .iter()
         .filter(|&&(x, y)| map.state(x, y) == CellState::Occupied)
         .count();
-    rep.path_false_obstacle_rate = swept_occ as f64 / swept.len().max(1) as f64;
-    let trace = DriveTrace {
-        truth: sim.trajectory.clone(),
-        odom: odom_track,
-        map,
-        capture: sim.capture.take(),
-    };
-    Ok((rep, trace))
+    swept_occ as f64 / swept.len().max(1) as f64
 }
 
 /// The drive as an SVG: truth in grey, the lidar map over it (occupied
