@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use super::args::write_file;
 use super::progress;
+use host_sim::run::bench::paper_table2;
 use serde_json::json;
 
 /// Which benchmark.
@@ -186,7 +187,6 @@ fn cmd_table2(
     json: Option<&Path>,
     svg_dir: Option<&Path>,
 ) -> Result<(), String> {
-    use host_sim::run::bench::paper_table2;
     if runs == 0 {
         return Err("--runs must be at least 1".into());
     }
@@ -234,6 +234,43 @@ fn cmd_table2(
         return Err(e);
     }
     println!("Seed 000 Table 2: {runs} random maps per size ({density}% blocked, rectangles up to {max_side} cells), seed {seed}");
+    print_table2_means(&rows);
+    print_table2_ratios(&rows);
+    if let Some(f) = json {
+        let mut obj = serde_json::Map::new();
+        obj.insert("runs".into(), json!(runs));
+        obj.insert("seed".into(), json!(seed));
+        obj.insert("density_pct".into(), json!(density));
+        obj.insert("max_side".into(), json!(max_side));
+        for (label, k, agg) in &rows {
+            let mut means = serde_json::Map::new();
+            for (m, _) in agg.sums.iter() {
+                means.insert((*m).to_string(), json!(agg.mean(m)));
+            }
+            let mut t = agg.times_us.clone();
+            means.insert(
+                "median_time_us".into(),
+                json!(host_sim::report::metrics::median(&mut t)),
+            );
+            means.insert("min_coverage".into(), json!(agg.min_coverage));
+            let entry = obj.entry(label.to_string()).or_insert_with(|| json!({}));
+            if let Some(e) = entry.as_object_mut() {
+                e.insert(k.name().into(), serde_json::Value::Object(means));
+            }
+        }
+        write_file(f, &serde_json::Value::Object(obj).to_string())?;
+    }
+    Ok(())
+}
+
+/// Table 2's means per size and planner, beside the paper's.
+fn print_table2_means(
+    rows: &[(
+        &str,
+        robovac::coverage::PlannerKind,
+        host_sim::run::bench::Table2Agg,
+    )],
+) {
     let metrics = [
         "coverage_path_length",
         "segments",
@@ -286,7 +323,16 @@ fn cmd_table2(
         }
         println!();
     }
-    // The paper's claims, as measured ratios against our BA*.
+}
+
+/// The paper's claims, as measured ratios against our BA*.
+fn print_table2_ratios(
+    rows: &[(
+        &str,
+        robovac::coverage::PlannerKind,
+        host_sim::run::bench::Table2Agg,
+    )],
+) {
     println!("\nratios against our BA* on the same maps (paper in brackets):");
     for (label, _, _) in host_sim::run::bench::TABLE2_SIZES {
         let get = |k: robovac::coverage::PlannerKind, m: &str| {
@@ -326,31 +372,6 @@ fn cmd_table2(
             get(BOhaPc, "turns") / get(BOha, "turns").max(1e-9)
         );
     }
-    if let Some(f) = json {
-        let mut obj = serde_json::Map::new();
-        obj.insert("runs".into(), json!(runs));
-        obj.insert("seed".into(), json!(seed));
-        obj.insert("density_pct".into(), json!(density));
-        obj.insert("max_side".into(), json!(max_side));
-        for (label, k, agg) in &rows {
-            let mut means = serde_json::Map::new();
-            for (m, _) in agg.sums.iter() {
-                means.insert((*m).to_string(), json!(agg.mean(m)));
-            }
-            let mut t = agg.times_us.clone();
-            means.insert(
-                "median_time_us".into(),
-                json!(host_sim::report::metrics::median(&mut t)),
-            );
-            means.insert("min_coverage".into(), json!(agg.min_coverage));
-            let entry = obj.entry(label.to_string()).or_insert_with(|| json!({}));
-            if let Some(e) = entry.as_object_mut() {
-                e.insert(k.name().into(), serde_json::Value::Object(means));
-            }
-        }
-        write_file(f, &serde_json::Value::Object(obj).to_string())?;
-    }
-    Ok(())
 }
 
 /// `host-sim bench missions`.
@@ -361,7 +382,7 @@ fn cmd_bench_missions(
     threads: Option<usize>,
     json: Option<&Path>,
 ) -> Result<(), String> {
-    use host_sim::run::mission::{report_json, run_suite, suite_cases};
+    use host_sim::run::mission::{run_suite, suite_cases};
     if runs == 0 {
         return Err("--runs must be at least 1".into());
     }
@@ -396,6 +417,27 @@ fn cmd_bench_missions(
         runs,
         wall
     );
+    print_suite_groups(&rows);
+    print_suite_summary(&rows);
+    for f in &failures {
+        println!("error: {f}");
+    }
+    if let Some(f) = json {
+        write_file(f, &suite_json(&rows).to_string())?;
+    }
+    if !failures.is_empty() {
+        return Err(format!("{} missions could not run", failures.len()));
+    }
+    Ok(())
+}
+
+/// The suite's table: one row per map, mode and noise.
+fn print_suite_groups(
+    rows: &[(
+        &host_sim::run::mission::SuiteCase,
+        &host_sim::run::mission::MissionReport,
+    )],
+) {
     println!(
         "{:<7} {:<8} {:<10} {:>3} {:>8} {:>8} {:>9} {:>9} {:>6} {:>5} {:>6} {:>6} {:>7} {:>7}",
         "map",
@@ -414,7 +456,7 @@ fn cmd_bench_missions(
         "sim×"
     );
     let mut groups: Vec<(String, String, String)> = Vec::new();
-    for (c, _) in &rows {
+    for (c, _) in rows {
         let k = (
             c.map.to_string(),
             format!("{:?}", c.mode).to_lowercase(),
@@ -456,6 +498,15 @@ fn cmd_bench_missions(
             mean(&|r| r.sim_time_s / r.wall_time_s.max(1e-9)),
         );
     }
+}
+
+/// Collisions, the noise-none coverage and the simulator's speed.
+fn print_suite_summary(
+    rows: &[(
+        &host_sim::run::mission::SuiteCase,
+        &host_sim::run::mission::MissionReport,
+    )],
+) {
     let total_coll: usize = rows.iter().map(|(_, r)| r.collisions).sum();
     println!(
         "collisions (the robot moving into something): {total_coll} over {} missions",
@@ -485,28 +536,29 @@ fn cmd_bench_missions(
     let sim: f64 = rows.iter().map(|(_, r)| r.sim_time_s).sum();
     let wall_sum: f64 = rows.iter().map(|(_, r)| r.wall_time_s).sum();
     println!("simulator speed: {:.0} simulated seconds per wall second per thread ({:.0} s simulated in all)", sim / wall_sum.max(1e-9), sim);
-    for f in &failures {
-        println!("error: {f}");
-    }
-    if let Some(f) = json {
-        let arr: Vec<serde_json::Value> = rows
-            .iter()
-            .map(|(c, r)| {
-                let mut v = report_json(r);
-                v["map"] = json!(c.map);
-                v["mode"] = json!(format!("{:?}", c.mode).to_lowercase());
-                v["people"] = json!(c.people);
-                v["noise"] = json!(format!("{:?}", c.noise).to_lowercase());
-                v["seed"] = json!(c.seed);
-                v
-            })
-            .collect();
-        write_file(f, &serde_json::Value::Array(arr).to_string())?;
-    }
-    if !failures.is_empty() {
-        return Err(format!("{} missions could not run", failures.len()));
-    }
-    Ok(())
+}
+
+/// Every mission's report with its configuration.
+fn suite_json(
+    rows: &[(
+        &host_sim::run::mission::SuiteCase,
+        &host_sim::run::mission::MissionReport,
+    )],
+) -> serde_json::Value {
+    use host_sim::run::mission::report_json;
+    let arr: Vec<serde_json::Value> = rows
+        .iter()
+        .map(|(c, r)| {
+            let mut v = report_json(r);
+            v["map"] = json!(c.map);
+            v["mode"] = json!(format!("{:?}", c.mode).to_lowercase());
+            v["people"] = json!(c.people);
+            v["noise"] = json!(format!("{:?}", c.noise).to_lowercase());
+            v["seed"] = json!(c.seed);
+            v
+        })
+        .collect();
+    serde_json::Value::Array(arr)
 }
 
 /// `bench wheel-step`.
