@@ -22,6 +22,7 @@ fn opts(map: &str, mode: MapMode, people: usize, noise: Noise, seed: u64) -> Mis
         start: None,
         kind: PlannerKind::BOha,
         lidar_gap_s: None,
+        firmware_order: false,
     }
 }
 
@@ -48,6 +49,33 @@ fn check_truth(o: &MissionOptions, rep: &MissionReport, t: &MissionTrace) {
     assert_eq!(rep.collisions, 0, "the robot moved into something");
 }
 
+/// The events tell the mission's story: it leaves the self-test for the
+/// lanes, every avoidance that starts ends, and the last event is docking.
+fn check_events(rep: &MissionReport, t: &MissionTrace) {
+    use robovac::mission::{EventKind, State};
+    let kinds: Vec<EventKind> = t.events.iter().map(|e| e.kind).collect();
+    assert_eq!(
+        kinds.first(),
+        Some(&EventKind::State {
+            from: State::SelfTest,
+            to: State::Cover
+        })
+    );
+    assert_eq!(kinds.last(), Some(&EventKind::Docked));
+    let started = kinds
+        .iter()
+        .filter(|k| **k == EventKind::AvoidStarted)
+        .count();
+    let ended = kinds
+        .iter()
+        .filter(|k| **k == EventKind::AvoidEnded)
+        .count();
+    assert_eq!(started, ended);
+    assert!(started > 0 && started as u32 <= rep.avoidance_events);
+    assert!(t.events.windows(2).all(|w| w[0].at_us <= w[1].at_us));
+    assert_eq!(rep.counters.events_dropped, 0);
+}
+
 #[test]
 fn known_studio_with_a_person_is_cleaned_safely() {
     let o = opts("studio", MapMode::Known, 1, Noise::None, 2);
@@ -58,6 +86,7 @@ fn known_studio_with_a_person_is_cleaned_safely() {
     assert!((end.0 - t.start.0).hypot(end.1 - t.start.1) < 0.15);
     assert!(rep.coverage >= 0.97, "coverage {:.4}", rep.coverage);
     assert!(rep.ideal_time_s > 0.0 && rep.sim_time_s > rep.ideal_time_s);
+    check_events(&rep, &t);
 }
 
 #[test]
@@ -110,4 +139,18 @@ fn no_lidar_fails_the_self_test_without_moving() {
     assert_eq!(rep.final_state, "Failed(SelfTestLidar)");
     assert!(!rep.finished);
     assert!(rep.distance_m < 0.001);
+}
+
+/// The firmware's order (control every period, planning after it when
+/// due, as the real-time task and the background task run on the chip):
+/// the same mission still cleans the studio safely and docks.
+#[test]
+fn firmware_order_cleans_the_studio() {
+    let mut o = opts("studio", MapMode::Known, 1, Noise::None, 2);
+    o.firmware_order = true;
+    let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
+    check_truth(&o, &rep, &t);
+    assert!(rep.finished && rep.returned_to_start, "{rep:?}");
+    assert!(rep.coverage >= 0.97, "coverage {:.4}", rep.coverage);
+    assert_eq!(rep.counters.handoff_dropped, 0);
 }

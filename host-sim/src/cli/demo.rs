@@ -26,6 +26,7 @@ fn cmd_demo() -> Result<(), String> {
         start: None,
         kind: robovac::coverage::PlannerKind::BOha,
         lidar_gap_s: None,
+        firmware_order: false,
     };
     println!(
         "robovac demo: the firmware's mission executive cleans a 9.6 m × 7.2 m furnished flat"

@@ -41,6 +41,10 @@ pub struct Args {
     /// docking) and add them to the JSON.
     #[arg(long)]
     pub events: bool,
+    /// Call the executive as the firmware does (control, then planning in
+    /// the background) instead of the host's lock-step.
+    #[arg(long)]
+    pub firmware_order: bool,
 }
 
 /// Runs the command.
@@ -58,6 +62,7 @@ pub fn run(a: Args) -> Result<(), String> {
         json,
         svg,
         events,
+        firmware_order,
     } = a;
     let kind = host_sim::run::plan::planner_by_name(&planner)
         .ok_or_else(|| format!("unknown planner {planner:?}"))?;
@@ -76,6 +81,7 @@ pub fn run(a: Args) -> Result<(), String> {
         start,
         kind,
         lidar_gap_s: lidar_gap,
+        firmware_order,
     };
     cmd_mission(
         &opts,

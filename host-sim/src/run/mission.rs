@@ -45,6 +45,11 @@ pub struct MissionOptions {
     pub kind: PlannerKind,
     /// Silence the lidar between these sim times (s), to exercise the fault.
     pub lidar_gap_s: Option<(f64, f64)>,
+    /// Call the executive as the firmware does: `control` every period and
+    /// then `plan` when due, so a plan's decision reaches the motors one
+    /// period later. Off: the lock-step `tick` (plan between sensing and
+    /// acting), the order every reported figure was measured in.
+    pub firmware_order: bool,
 }
 
 /// What a mission measured (its JSON: these fields, plus `sim_speed` and
@@ -338,7 +343,14 @@ fn control_period(
         }
     }
     let (l, rr) = sim.read_encoders();
-    match mission.tick(parts, sim.t_us, (l, rr)) {
+    let cmd = if opts.firmware_order {
+        let cmd = mission.control(sim.t_us, (l, rr));
+        mission.plan(parts, sim.t_us);
+        cmd
+    } else {
+        mission.tick(parts, sim.t_us, (l, rr))
+    };
+    match cmd {
         MotorCmd::Duty(a, b) => sim.set_duty(a, b),
         MotorCmd::Brake => sim.brake(),
     }
@@ -766,6 +778,7 @@ pub fn run_suite(
                 start: None,
                 kind: PlannerKind::BOha,
                 lidar_gap_s: None,
+                firmware_order: false,
             };
             run_mission(&opts, |_, _, _| {}).map(|(rep, _, _)| rep)
         });

@@ -230,24 +230,64 @@ pub fn plan_on(
 
 /// Metrics as JSON (lengths in cells, rotation in degrees).
 pub fn metrics_json(p: &Plan) -> serde_json::Value {
-    let m = &p.metrics;
-    let cells = |c: u64| c as f64 / robovac::math::cost::COST_PER_CELL as f64;
-    serde_json::json!({
-        "reachable_cells": m.reachable_cells,
-        "covered_cells": m.covered_cells,
-        "coverage": p.coverage(),
-        "repeated_cells": m.repeated_cells,
-        "repetition": p.repetition(),
-        "coverage_path_length": cells(m.coverage_path_cost),
-        "backtrack_path_length": cells(m.backtrack_path_cost),
-        "total_path_length": cells(m.coverage_path_cost + m.backtrack_path_cost),
-        "turns": m.turns,
-        "rotation_deg": m.rotation_urad as f64 * 1e-6 * 180.0 / std::f64::consts::PI,
-        "segments": m.segments,
-        "backtrack_points_total": m.backtrack_points_total,
-        "nodes_expanded": m.nodes_expanded,
-        "time_us": p.time_us,
-    })
+    serde_json::to_value(PlanMetrics::of(p)).unwrap_or_default()
+}
+
+/// A plan's metrics as reported (lengths in cells, rotation in degrees).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct PlanMetrics {
+    /// Free cells reachable from the start.
+    pub reachable_cells: u32,
+    /// Of those, covered.
+    pub covered_cells: u32,
+    /// covered ÷ reachable.
+    pub coverage: f64,
+    /// Cells covered more than once.
+    pub repeated_cells: u32,
+    /// repeated ÷ covered.
+    pub repetition: f64,
+    /// Length of the cover moves, cells.
+    pub coverage_path_length: f64,
+    /// Length of the transits, cells.
+    pub backtrack_path_length: f64,
+    /// Both, cells.
+    pub total_path_length: f64,
+    /// Heading changes.
+    pub turns: u32,
+    /// Total rotation, degrees.
+    pub rotation_deg: f64,
+    /// Cover segments.
+    pub segments: u32,
+    /// Points ever put on the backtracking list.
+    pub backtrack_points_total: u32,
+    /// Search nodes expanded.
+    pub nodes_expanded: u64,
+    /// Planning time on this host, µs.
+    pub time_us: f64,
+}
+
+impl PlanMetrics {
+    /// The metrics of `p`.
+    pub fn of(p: &Plan) -> Self {
+        let m = &p.metrics;
+        let cells = |c: u64| c as f64 / robovac::math::cost::COST_PER_CELL as f64;
+        Self {
+            reachable_cells: m.reachable_cells,
+            covered_cells: m.covered_cells,
+            coverage: p.coverage(),
+            repeated_cells: m.repeated_cells,
+            repetition: p.repetition(),
+            coverage_path_length: cells(m.coverage_path_cost),
+            backtrack_path_length: cells(m.backtrack_path_cost),
+            total_path_length: cells(m.coverage_path_cost + m.backtrack_path_cost),
+            turns: m.turns,
+            rotation_deg: m.rotation_urad as f64 * 1e-6 * 180.0 / std::f64::consts::PI,
+            segments: m.segments,
+            backtrack_points_total: m.backtrack_points_total,
+            nodes_expanded: m.nodes_expanded,
+            time_us: p.time_us,
+        }
+    }
 }
 
 /// The plan as the JSON document of `host-sim plan --json`.
