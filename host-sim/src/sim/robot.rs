@@ -235,124 +235,11 @@ impl Sim {
     /// Advances the physics by one step.
     pub fn step(&mut self) {
         let dt = self.cfg.physics_step_us as f64 * 1e-6;
-        let c = &self.cfg;
-        // Motors: duty → steady speed (dead band, saturation) → first order.
-        for i in 0..2 {
-            let d = self.duty[i].clamp(-1.0, 1.0);
-            let target = if self.braking || d.abs() < c.motor_deadband {
-                0.0
-            } else {
-                d.signum() * (d.abs() - c.motor_deadband) / (1.0 - c.motor_deadband)
-                    * c.full_duty_speed_m_s
-                    * self.mismatch[i]
-            };
-            let tau = if self.braking {
-                c.motor_tau_s * 0.3
-            } else {
-                c.motor_tau_s
-            };
-            self.wheel_v[i] += (target - self.wheel_v[i]) * (dt / tau).min(1.0);
-        }
-        // Slip: a slowly varying relative error between wheel and ground.
-        if self.noise == Noise::Realistic && self.t_us.is_multiple_of(100_000) {
-            self.slip = [
-                c.slip_sd * gauss(&mut self.rng),
-                c.slip_sd * gauss(&mut self.rng),
-            ];
-        }
-        let vg = [
-            self.wheel_v[0] * (1.0 + self.slip[0]),
-            self.wheel_v[1] * (1.0 + self.slip[1]),
-        ];
-        let v = 0.5 * (vg[0] + vg[1]);
-        let w = (vg[1] - vg[0]) / c.wheelbase_m;
-        let (x, y, th) = self.pose;
-        let (nx, ny, nth) = if w.abs() < 1e-9 {
-            (x + v * dt * th.cos(), y + v * dt * th.sin(), th)
-        } else {
-            let r = v / w;
-            let t2 = th + w * dt;
-            (
-                x + r * (t2.sin() - th.sin()),
-                y - r * (t2.cos() - th.cos()),
-                t2,
-            )
-        };
-        let r = c.diameter_m / 2.0;
-        let hits_person = |px: f64, py: f64| {
-            self.world
-                .people
-                .iter()
-                .any(|p| (p.pos.0 - px).hypot(p.pos.1 - py) < p.radius_m + r)
-        };
-        // A person blocks a move that brings the body closer to them;
-        // moving away from someone touching the robot is possible.
-        let into_person = |px: f64, py: f64| {
-            self.world.people.iter().any(|p| {
-                let d1 = (p.pos.0 - px).hypot(p.pos.1 - py);
-                d1 < p.radius_m + r && d1 < (p.pos.0 - x).hypot(p.pos.1 - y)
-            })
-        };
-        let blocked = self.world.disc_hits_wall(nx, ny, r) || into_person(nx, ny);
-        let moving = (nx - x).hypot(ny - y) > 1e-9;
-        if blocked && moving {
-            // The body cannot move into it: it stops, the wheels stall.
-            // It is the robot's doing when it drives into a wall, or into a
-            // person it was not already touching, toward them; a person who
-            // walked into the robot is theirs.
-            // Along the contact normal, the robot's approach speed is
-            // compared with the person's (who moved into whom).
-            let robot_into = self.world.disc_hits_wall(nx, ny, r)
-                || self.world.people.iter().any(|p| {
-                    let (ox, oy) = (p.pos.0 - x, p.pos.1 - y);
-                    let dist = ox.hypot(oy).max(1e-9);
-                    let (ux, uy) = (ox / dist, oy / dist);
-                    let robot_v = ((nx - x) * ux + (ny - y) * uy) / dt;
-                    let person_v = p.approach_speed(x, y);
-                    // Already touching (the person walked into or through
-                    // the robot): not the robot's doing.
-                    let touching = dist < p.radius_m + r;
-                    (p.pos.0 - nx).hypot(p.pos.1 - ny) < p.radius_m + r
-                        && !touching
-                        && robot_v > 0.005
-                        && robot_v >= person_v
-                });
-            if !self.in_contact {
-                self.collisions.push(Collision {
-                    t_s: self.t_us as f64 * 1e-6,
-                    pos: (x, y),
-                    by_person: !robot_into,
-                });
-            }
-            // Stopped dead: no motion, no turn, no encoder ticks (turning
-            // in place, a move of zero length, is never blocked).
-            self.in_contact = true;
-            self.wheel_v = [0.0; 2];
-            let _ = (nth, th);
-        } else {
-            if !moving && hits_person(x, y) && !self.in_contact {
-                self.collisions.push(Collision {
-                    t_s: self.t_us as f64 * 1e-6,
-                    pos: (x, y),
-                    by_person: true,
-                });
-                self.in_contact = true;
-            } else if self.in_contact {
-                // Contact ends once the body is 5 mm clear of everything.
-                let (px, py) = (nx, ny);
-                let near_person = self
-                    .world
-                    .people
-                    .iter()
-                    .any(|p| (p.pos.0 - px).hypot(p.pos.1 - py) < p.radius_m + r + 0.005);
-                if !near_person && !self.world.disc_hits_wall(px, py, r + 0.005) {
-                    self.in_contact = false;
-                }
-            }
-            self.distance_m += (nx - x).hypot(ny - y);
-            self.pose = (nx, ny, nth);
-        }
+        self.step_motors(dt);
+        let (nx, ny, nth) = self.ground_motion(dt);
+        self.move_body(nx, ny, nth, dt);
         // Encoders count wheel rotation (slip is invisible to them).
+        let c = &self.cfg;
         let per_m = c.ticks_per_rev as f64 / (std::f64::consts::PI * c.wheel_diameter_m);
         for i in 0..2 {
             self.ticks[i] += self.wheel_v[i] * dt * per_m;
@@ -371,6 +258,140 @@ impl Sim {
         }
     }
 
+    /// Motors: duty → steady speed (dead band, saturation) → first order.
+    fn step_motors(&mut self, dt: f64) {
+        let c = &self.cfg;
+        for i in 0..2 {
+            let d = self.duty[i].clamp(-1.0, 1.0);
+            let target = if self.braking || d.abs() < c.motor_deadband {
+                0.0
+            } else {
+                d.signum() * (d.abs() - c.motor_deadband) / (1.0 - c.motor_deadband)
+                    * c.full_duty_speed_m_s
+                    * self.mismatch[i]
+            };
+            let tau = if self.braking {
+                c.motor_tau_s * 0.3
+            } else {
+                c.motor_tau_s
+            };
+            self.wheel_v[i] += (target - self.wheel_v[i]) * (dt / tau).min(1.0);
+        }
+    }
+
+    /// Where the ground takes the body this step: the wheels' speeds with
+    /// slip (a slowly varying relative error between wheel and ground),
+    /// integrated along the arc.
+    fn ground_motion(&mut self, dt: f64) -> (f64, f64, f64) {
+        let c = &self.cfg;
+        if self.noise == Noise::Realistic && self.t_us.is_multiple_of(100_000) {
+            self.slip = [
+                c.slip_sd * gauss(&mut self.rng),
+                c.slip_sd * gauss(&mut self.rng),
+            ];
+        }
+        let vg = [
+            self.wheel_v[0] * (1.0 + self.slip[0]),
+            self.wheel_v[1] * (1.0 + self.slip[1]),
+        ];
+        let v = 0.5 * (vg[0] + vg[1]);
+        let w = (vg[1] - vg[0]) / c.wheelbase_m;
+        let (x, y, th) = self.pose;
+        if w.abs() < 1e-9 {
+            (x + v * dt * th.cos(), y + v * dt * th.sin(), th)
+        } else {
+            let r = v / w;
+            let t2 = th + w * dt;
+            (
+                x + r * (t2.sin() - th.sin()),
+                y - r * (t2.cos() - th.cos()),
+                t2,
+            )
+        }
+    }
+
+    /// Moves the body to (nx, ny, nth) unless a wall or a person blocks
+    /// it; records collisions and contact.
+    fn move_body(&mut self, nx: f64, ny: f64, nth: f64, dt: f64) {
+        let (x, y, _) = self.pose;
+        let r = self.cfg.diameter_m / 2.0;
+        // A person blocks a move that brings the body closer to them;
+        // moving away from someone touching the robot is possible.
+        let into_person = |px: f64, py: f64| {
+            self.world.people.iter().any(|p| {
+                let d1 = (p.pos.0 - px).hypot(p.pos.1 - py);
+                d1 < p.radius_m + r && d1 < (p.pos.0 - x).hypot(p.pos.1 - y)
+            })
+        };
+        let blocked = self.world.disc_hits_wall(nx, ny, r) || into_person(nx, ny);
+        let moving = (nx - x).hypot(ny - y) > 1e-9;
+        if blocked && moving {
+            self.blocked_move(nx, ny, dt);
+            return;
+        }
+        let hits_person = |px: f64, py: f64| {
+            self.world
+                .people
+                .iter()
+                .any(|p| (p.pos.0 - px).hypot(p.pos.1 - py) < p.radius_m + r)
+        };
+        if !moving && hits_person(x, y) && !self.in_contact {
+            self.collisions.push(Collision {
+                t_s: self.t_us as f64 * 1e-6,
+                pos: (x, y),
+                by_person: true,
+            });
+            self.in_contact = true;
+        } else if self.in_contact {
+            // Contact ends once the body is 5 mm clear of everything.
+            let near_person = self
+                .world
+                .people
+                .iter()
+                .any(|p| (p.pos.0 - nx).hypot(p.pos.1 - ny) < p.radius_m + r + 0.005);
+            if !near_person && !self.world.disc_hits_wall(nx, ny, r + 0.005) {
+                self.in_contact = false;
+            }
+        }
+        self.distance_m += (nx - x).hypot(ny - y);
+        self.pose = (nx, ny, nth);
+    }
+
+    /// The body cannot move into a wall or person: it stops, the wheels
+    /// stall (no motion, no turn, no encoder ticks; turning in place, a
+    /// move of zero length, is never blocked). It is the robot's doing
+    /// when it drives into a wall, or into a person it was not already
+    /// touching, toward them (along the contact normal, the robot's
+    /// approach speed is compared with the person's); a person who walked
+    /// into the robot is theirs.
+    fn blocked_move(&mut self, nx: f64, ny: f64, dt: f64) {
+        let (x, y, _) = self.pose;
+        let r = self.cfg.diameter_m / 2.0;
+        let robot_into = self.world.disc_hits_wall(nx, ny, r)
+            || self.world.people.iter().any(|p| {
+                let (ox, oy) = (p.pos.0 - x, p.pos.1 - y);
+                let dist = ox.hypot(oy).max(1e-9);
+                let (ux, uy) = (ox / dist, oy / dist);
+                let robot_v = ((nx - x) * ux + (ny - y) * uy) / dt;
+                let person_v = p.approach_speed(x, y);
+                // Already touching (the person walked into or through the
+                // robot): not the robot's doing.
+                let touching = dist < p.radius_m + r;
+                (p.pos.0 - nx).hypot(p.pos.1 - ny) < p.radius_m + r
+                    && !touching
+                    && robot_v > 0.005
+                    && robot_v >= person_v
+            });
+        if !self.in_contact {
+            self.collisions.push(Collision {
+                t_s: self.t_us as f64 * 1e-6,
+                pos: (x, y),
+                by_person: !robot_into,
+            });
+        }
+        self.in_contact = true;
+        self.wheel_v = [0.0; 2];
+    }
     fn step_lidar(&mut self, dt: f64) {
         let c = &self.cfg;
         self.sample_acc += c.lidar_samples_per_s * dt;
