@@ -32,105 +32,9 @@ pub fn plan_svg(map: &MapData, p: &Plan, title: &str) -> String {
         s,
         r##"<rect width="{w:.1}" height="{h:.1}" fill="#f7f7f2" stroke="#999"/>"##
     );
-    // Obstacles, one rect per horizontal run.
-    for y in 0..map.height as i32 {
-        let mut x = 0;
-        while x < map.width as i32 {
-            if map.is_blocked(x, y) {
-                let x0 = x;
-                while x < map.width as i32 && map.is_blocked(x, y) {
-                    x += 1;
-                }
-                let _ = writeln!(
-                    s,
-                    r##"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}" fill="#3b3b3b" shape-rendering="crispEdges"/>"##,
-                    x0 as f64 * cs,
-                    y as f64 * cs,
-                    (x - x0) as f64 * cs,
-                    cs
-                );
-            } else {
-                x += 1;
-            }
-        }
-    }
-    let pt = |c: robovac::Cell| ((c.x as f64 + 0.5) * cs, (c.y as f64 + 0.5) * cs);
-    let covers = p
-        .segments
-        .iter()
-        .filter(|g| g.kind == SegmentKind::Cover)
-        .count()
-        .max(1);
-    let mut ci = 0usize;
-    for seg in &p.segments {
-        let pts: Vec<String> = p.waypoints[seg.from..=seg.to]
-            .iter()
-            .map(|&c| {
-                let (x, y) = pt(c);
-                format!("{x:.1},{y:.1}")
-            })
-            .collect();
-        match seg.kind {
-            SegmentKind::Cover => {
-                let hue = (ci * 360 / covers + (ci % 2) * 180 / covers.max(2)) % 360;
-                ci += 1;
-                let _ = writeln!(
-                    s,
-                    r#"<polyline points="{}" fill="none" stroke="hsl({hue},70%,45%)" stroke-width="{:.1}" stroke-linejoin="round" stroke-linecap="round" opacity="0.85"/>"#,
-                    pts.join(" "),
-                    (cs * 0.28).max(1.2)
-                );
-            }
-            SegmentKind::Transit => {
-                let _ = writeln!(
-                    s,
-                    r##"<polyline points="{}" fill="none" stroke="#111" stroke-width="{:.1}" stroke-dasharray="{:.1},{:.1}"/>"##,
-                    pts.join(" "),
-                    (cs * 0.16).max(1.0),
-                    cs * 0.5,
-                    cs * 0.3
-                );
-            }
-        }
-    }
-    let r = (cs * 0.32).max(2.0);
-    for &c in &p.critical_points {
-        let (x, y) = pt(c);
-        let _ = writeln!(
-            s,
-            r##"<path d="M{:.1},{:.1}L{:.1},{:.1}M{:.1},{:.1}L{:.1},{:.1}" stroke="#d62728" stroke-width="{:.1}"/>"##,
-            x - r,
-            y - r,
-            x + r,
-            y + r,
-            x - r,
-            y + r,
-            x + r,
-            y - r,
-            (cs * 0.12).max(1.0)
-        );
-    }
-    for &c in &p.backtrack_points {
-        let (x, y) = pt(c);
-        let _ = writeln!(
-            s,
-            r##"<path d="M{:.1},{:.1}L{:.1},{:.1}L{:.1},{:.1}L{:.1},{:.1}Z" fill="#1f77b4" stroke="#fff" stroke-width="0.8"/>"##,
-            x,
-            y - r,
-            x + r,
-            y,
-            x,
-            y + r,
-            x - r,
-            y
-        );
-    }
-    let (sx, sy) = pt(p.start);
-    let _ = writeln!(
-        s,
-        r##"<circle cx="{sx:.1}" cy="{sy:.1}" r="{:.1}" fill="#2ca02c" stroke="#fff"/>"##,
-        r * 1.3
-    );
+    plan_obstacles(&mut s, map, cs);
+    plan_segments(&mut s, p, cs);
+    plan_markers(&mut s, p, cs);
     let m = &p.metrics;
     let cells = |c: u64| c as f64 / robovac::math::cost::COST_PER_CELL as f64;
     let lines = [
@@ -263,6 +167,118 @@ impl Canvas {
         self.out.push_str("</g></svg>\n");
         self.out
     }
+}
+
+/// Obstacles, one rect per horizontal run of blocked cells.
+fn plan_obstacles(s: &mut String, map: &MapData, cs: f64) {
+    for y in 0..map.height as i32 {
+        let mut x = 0;
+        while x < map.width as i32 {
+            if map.is_blocked(x, y) {
+                let x0 = x;
+                while x < map.width as i32 && map.is_blocked(x, y) {
+                    x += 1;
+                }
+                let _ = writeln!(
+                    s,
+                    r##"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}" fill="#3b3b3b" shape-rendering="crispEdges"/>"##,
+                    x0 as f64 * cs,
+                    y as f64 * cs,
+                    (x - x0) as f64 * cs,
+                    cs
+                );
+            } else {
+                x += 1;
+            }
+        }
+    }
+}
+
+/// Cover runs coloured by segment, transits dashed.
+fn plan_segments(s: &mut String, p: &Plan, cs: f64) {
+    let pt = |c: robovac::Cell| ((c.x as f64 + 0.5) * cs, (c.y as f64 + 0.5) * cs);
+    let covers = p
+        .segments
+        .iter()
+        .filter(|g| g.kind == SegmentKind::Cover)
+        .count()
+        .max(1);
+    let mut ci = 0usize;
+    for seg in &p.segments {
+        let pts: Vec<String> = p.waypoints[seg.from..=seg.to]
+            .iter()
+            .map(|&c| {
+                let (x, y) = pt(c);
+                format!("{x:.1},{y:.1}")
+            })
+            .collect();
+        match seg.kind {
+            SegmentKind::Cover => {
+                let hue = (ci * 360 / covers + (ci % 2) * 180 / covers.max(2)) % 360;
+                ci += 1;
+                let _ = writeln!(
+                    s,
+                    r#"<polyline points="{}" fill="none" stroke="hsl({hue},70%,45%)" stroke-width="{:.1}" stroke-linejoin="round" stroke-linecap="round" opacity="0.85"/>"#,
+                    pts.join(" "),
+                    (cs * 0.28).max(1.2)
+                );
+            }
+            SegmentKind::Transit => {
+                let _ = writeln!(
+                    s,
+                    r##"<polyline points="{}" fill="none" stroke="#111" stroke-width="{:.1}" stroke-dasharray="{:.1},{:.1}"/>"##,
+                    pts.join(" "),
+                    (cs * 0.16).max(1.0),
+                    cs * 0.5,
+                    cs * 0.3
+                );
+            }
+        }
+    }
+}
+
+/// Critical points (red ×), backtracking points reached (blue ◆), the
+/// start (green ●).
+fn plan_markers(s: &mut String, p: &Plan, cs: f64) {
+    let pt = |c: robovac::Cell| ((c.x as f64 + 0.5) * cs, (c.y as f64 + 0.5) * cs);
+    let r = (cs * 0.32).max(2.0);
+    for &c in &p.critical_points {
+        let (x, y) = pt(c);
+        let _ = writeln!(
+            s,
+            r##"<path d="M{:.1},{:.1}L{:.1},{:.1}M{:.1},{:.1}L{:.1},{:.1}" stroke="#d62728" stroke-width="{:.1}"/>"##,
+            x - r,
+            y - r,
+            x + r,
+            y + r,
+            x - r,
+            y + r,
+            x + r,
+            y - r,
+            (cs * 0.12).max(1.0)
+        );
+    }
+    for &c in &p.backtrack_points {
+        let (x, y) = pt(c);
+        let _ = writeln!(
+            s,
+            r##"<path d="M{:.1},{:.1}L{:.1},{:.1}L{:.1},{:.1}L{:.1},{:.1}Z" fill="#1f77b4" stroke="#fff" stroke-width="0.8"/>"##,
+            x,
+            y - r,
+            x + r,
+            y,
+            x,
+            y + r,
+            x - r,
+            y
+        );
+    }
+    let (sx, sy) = pt(p.start);
+    let _ = writeln!(
+        s,
+        r##"<circle cx="{sx:.1}" cy="{sy:.1}" r="{:.1}" fill="#2ca02c" stroke="#fff"/>"##,
+        r * 1.3
+    );
 }
 
 fn xml(t: &str) -> String {
