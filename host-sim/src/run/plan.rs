@@ -153,8 +153,32 @@ pub fn plan_on(
     }
 
     rec.add_planner_counts(stats.backtrack_points_total, stats.nodes_expanded);
-    // Merge collinear moves of one kind into waypoints; group into segments
-    // (a new cover segment also starts where the planner marks one).
+    let (waypoints, kinds, critical_points, backtrack_points) = shape_moves(&steps, start);
+    let segments = group_segments(&kinds);
+    Ok(Plan {
+        kind: planner.kind(),
+        start,
+        waypoints,
+        segments,
+        critical_points,
+        backtrack_points,
+        metrics: rec.metrics(),
+        stats,
+        time_us,
+        max_nodes_per_call: max_nodes,
+        moves: steps,
+    })
+}
+
+/// The moves as a drawing: collinear moves of one kind merged into
+/// waypoints (with, per waypoint, the kind of the segment ending there and
+/// whether a new cover segment starts with it), the critical points, and
+/// the backtracking points reached.
+#[allow(clippy::type_complexity)]
+fn shape_moves(
+    steps: &[Waypoint],
+    start: Cell,
+) -> (Vec<Cell>, Vec<(SegmentKind, bool)>, Vec<Cell>, Vec<Cell>) {
     let mut waypoints = vec![start];
     // Per waypoint: kind of the segment ending there, and whether a new
     // cover segment starts with it.
@@ -200,6 +224,12 @@ pub fn plan_on(
             kinds.push((k, w.starts_segment));
         }
     }
+    (waypoints, kinds, critical_points, backtrack_points)
+}
+
+/// Waypoints grouped into segments (a new cover segment also starts where
+/// the planner marks one).
+fn group_segments(kinds: &[(SegmentKind, bool)]) -> Vec<Segment> {
     let mut segments: Vec<Segment> = Vec::new();
     for (i, &(k, new)) in kinds.iter().enumerate().skip(1) {
         match segments.last_mut() {
@@ -213,19 +243,7 @@ pub fn plan_on(
             }),
         }
     }
-    Ok(Plan {
-        kind: planner.kind(),
-        start,
-        waypoints,
-        segments,
-        critical_points,
-        backtrack_points,
-        metrics: rec.metrics(),
-        stats,
-        time_us,
-        max_nodes_per_call: max_nodes,
-        moves: steps,
-    })
+    segments
 }
 
 /// Metrics as JSON (lengths in cells, rotation in degrees).
