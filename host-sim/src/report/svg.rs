@@ -107,6 +107,12 @@ impl Canvas {
         }
     }
 
+    /// A canvas for `map` of `cell_m` cells.
+    pub fn for_map(map: &MapData, cell_m: f64, caption_px: f64) -> Self {
+        let (w_m, h_m) = (map.width as f64 * cell_m, map.height as f64 * cell_m);
+        Self::world(w_m, h_m, caption_px)
+    }
+
     /// A world point (m) in pixels.
     pub fn px(&self, (x, y): (f64, f64)) -> (f64, f64) {
         (x * self.s, (self.h_m - y) * self.s)

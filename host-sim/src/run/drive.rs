@@ -476,8 +476,7 @@ pub fn drive_svg(
     rep: &DriveReport,
     title: &str,
 ) -> String {
-    let (wm, hm) = (map.width as f64 * cell_m, map.height as f64 * cell_m);
-    let mut c = Canvas::world(wm, hm, 90.0);
+    let mut c = Canvas::for_map(map, cell_m, 90.0);
     c.blocked(map, cell_m, "#bbb");
     let res = t.map.res_mm() as f64 / 1000.0;
     let r = res * c.s;

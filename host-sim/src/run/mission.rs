@@ -613,9 +613,8 @@ pub fn mission_svg(
     rep: &MissionReport,
     title: &str,
 ) -> String {
-    let (wm, hm) = (map.width as f64 * cell_m, map.height as f64 * cell_m);
-    let mut c = Canvas::world(wm, hm, 120.0);
-    let s = c.s;
+    let mut c = Canvas::for_map(map, cell_m, 120.0);
+    let (s, hm) = (c.s, c.h_m);
     // Swept / missed floor: runs of equal state in a row, one rectangle each.
     let (res, fw, fh) = floor.dims();
     for y in 0..fh {
