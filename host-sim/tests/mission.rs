@@ -4,7 +4,8 @@
 //! length matches the distance reported, coverage is measured on the
 //! truth, the robot ends at the dock.
 
-use host_sim::run::mission::{run_mission, suite_map, MissionOptions, MissionReport, MissionTrace};
+use host_sim::run::mission::{run_mission, MissionOptions, MissionReport, MissionTrace};
+use host_sim::run::suite::suite_map;
 use host_sim::sim::robot::{Noise, RobotConfig};
 use host_sim::sim::world::World;
 use robovac::coverage::PlannerKind;

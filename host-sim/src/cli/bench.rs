@@ -382,7 +382,7 @@ fn cmd_bench_missions(
     threads: Option<usize>,
     json: Option<&Path>,
 ) -> Result<(), String> {
-    use host_sim::run::mission::{run_suite, suite_cases};
+    use host_sim::run::suite::{run_suite, suite_cases};
     if runs == 0 {
         return Err("--runs must be at least 1".into());
     }
@@ -434,7 +434,7 @@ fn cmd_bench_missions(
 /// The suite's table: one row per map, mode and noise.
 fn print_suite_groups(
     rows: &[(
-        &host_sim::run::mission::SuiteCase,
+        &host_sim::run::suite::SuiteCase,
         &host_sim::run::mission::MissionReport,
     )],
 ) {
@@ -503,7 +503,7 @@ fn print_suite_groups(
 /// Collisions, the noise-none coverage and the simulator's speed.
 fn print_suite_summary(
     rows: &[(
-        &host_sim::run::mission::SuiteCase,
+        &host_sim::run::suite::SuiteCase,
         &host_sim::run::mission::MissionReport,
     )],
 ) {
@@ -541,7 +541,7 @@ fn print_suite_summary(
 /// Every mission's report with its configuration.
 fn suite_json(
     rows: &[(
-        &host_sim::run::mission::SuiteCase,
+        &host_sim::run::suite::SuiteCase,
         &host_sim::run::mission::MissionReport,
     )],
 ) -> serde_json::Value {

@@ -13,7 +13,9 @@ pub fn run() -> Result<(), String> {
 
 /// `host-sim demo`: the product at work.
 fn cmd_demo() -> Result<(), String> {
-    use host_sim::run::mission::{mission_svg, run_mission, suite_map, summary, MissionOptions};
+    use host_sim::report::mission::{mission_svg, summary};
+    use host_sim::run::mission::{run_mission, MissionOptions};
+    use host_sim::run::suite::suite_map;
     let map = suite_map("home")?;
     let opts = MissionOptions {
         map,

@@ -100,7 +100,8 @@ fn cmd_mission(
     svg: Option<&Path>,
     events: bool,
 ) -> Result<(), String> {
-    use host_sim::run::mission::{events_json, mission_svg, report_json, run_mission, summary};
+    use host_sim::report::mission::{events_json, mission_svg, summary};
+    use host_sim::run::mission::{report_json, run_mission};
     let pb = progress::status();
     let (rep, trace, floor) = run_mission(opts, |t, state, cov| {
         pb.set_message(format!(

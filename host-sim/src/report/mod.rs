@@ -2,4 +2,5 @@
 //! canvas). Uses `io` and the run types it draws.
 
 pub mod metrics;
+pub mod mission;
 pub mod svg;

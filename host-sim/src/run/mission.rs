@@ -5,6 +5,8 @@
 
 use std::time::Instant;
 
+use super::mission_debug::{debug_collision, debug_grid, debug_tick};
+
 use robovac::coverage::PlannerKind;
 use robovac::mission::{MapMode, Mission, MissionConfig, MotorCmd, Parts, State};
 use robovac::robot::hal::{ByteSource, MotorDriver};
@@ -14,7 +16,6 @@ use robovac::Cell;
 
 use crate::capacity::{new_grid, HostGrid, HOST_EVIDENCE};
 use crate::io::maps::MapData;
-use crate::report::svg::Canvas;
 use crate::sim::floor::Floor;
 use crate::sim::robot::{Noise, RobotConfig, Sim, MOUNT};
 use crate::sim::world::World;
@@ -243,7 +244,7 @@ pub fn run_mission(
 }
 
 /// The host's buffers lent to the executive.
-type HostMissionParts<'a> = Parts<
+pub(crate) type HostMissionParts<'a> = Parts<
     'a,
     { crate::capacity::HOST_CELLS },
     { crate::capacity::HOST_WORDS },
@@ -446,101 +447,12 @@ fn faults(c: &robovac::mission::Counters, state: State, finished: bool) -> Vec<(
     faults
 }
 
-/// `ROBOVAC_DEBUG_GRID`: the planning grid on stderr (`covered`: with the
-/// covered cells and the planner's counters).
-fn debug_grid(parts: &HostMissionParts<'_>, covered: bool) {
-    if std::env::var_os("ROBOVAC_DEBUG_GRID").is_none() {
-        return;
-    }
-    let g = &*parts.coarse;
-    for y in 0..g.height() as i32 {
-        let row: String = (0..g.width() as i32)
-            .map(|x| {
-                if g.is_blocked(x, y) {
-                    '#'
-                } else if covered && g.get(robovac::grid::Layer::Covered, x, y) {
-                    'c'
-                } else {
-                    '.'
-                }
-            })
-            .collect();
-        eprintln!("{row}");
-    }
-    if covered {
-        eprintln!("{:?}", parts.planner.stats());
-    }
-}
-
-/// `ROBOVAC_DEBUG_TRACE`: a collision on stderr.
-fn debug_collision(sim: &Sim, mission: &Mission) {
-    if let Some(c) = sim.collisions.last() {
-        eprintln!(
-            "COLLISION t {:.2} by_person {} robot ({:.3},{:.3},{:.2}) state {:?} wheels {:?} people {:?}",
-            c.t_s,
-            c.by_person,
-            sim.pose.0,
-            sim.pose.1,
-            sim.pose.2,
-            mission.state(),
-            sim.wheel_speeds(),
-            sim.world.people.iter().map(|p| (p.pos, p.waited_s)).collect::<Vec<_>>()
-        );
-    }
-}
-
-/// `ROBOVAC_DEBUG_TRACE`: the executive's view every simulated second.
-fn debug_tick(sim: &Sim, mission: &Mission, parts: &HostMissionParts<'_>) {
-    let (x, y, th) = sim.pose;
-    eprintln!(
-        "t {:.0} {:?} {:?} truth ({:.2},{:.2},{:.2}) dwa {:?} front {:?} {:?}",
-        sim.t_us as f64 * 1e-6,
-        mission.state(),
-        mission.corridor_status(),
-        x,
-        y,
-        th,
-        mission.dwa_command(),
-        mission.current_subpath(),
-        mission.counters()
-    );
-    for p in &sim.world.people {
-        eprintln!(
-            "   person ({:.2},{:.2}) waited {:.1}",
-            p.pos.0, p.pos.1, p.waited_s
-        );
-    }
-    eprintln!(
-        "   pose {:?} near {:?}",
-        mission.pose(),
-        mission.points_near(260).take(4).collect::<Vec<_>>()
-    );
-    eprintln!(
-        "   planner nodes {} {:?} pos {:?} list {}",
-        parts.planner.last_step_nodes(),
-        parts.planner.stats(),
-        parts.planner.position(),
-        parts.planner.backtrack_list().len()
-    );
-}
-
 /// The report as JSON.
 pub fn report_json(rep: &MissionReport) -> serde_json::Value {
     let mut v = serde_json::to_value(rep).unwrap_or_default();
     v["sim_speed"] = serde_json::json!(rep.sim_time_s / rep.wall_time_s.max(1e-9));
     v["time_vs_ideal"] = serde_json::json!(rep.sim_time_s / rep.ideal_time_s.max(1e-9));
     v
-}
-
-/// The executive's events as JSON: time (s) and what happened.
-pub fn events_json(events: &[robovac::mission::Event]) -> serde_json::Value {
-    let list: Vec<_> = events
-        .iter()
-        .map(
-            |e| serde_json::json!({"t_s": e.at_us as f64 * 1e-6, "event": format!("{:?}", e.kind)}),
-        )
-        .collect();
-    serde_json::Value::Array(list)
 }
 
 /// The counters the report shows (names as in the JSON).
@@ -579,219 +491,4 @@ fn counters_json<S: serde::Serializer>(
 
 fn faults_json<S: serde::Serializer>(f: &[(String, u64)], s: S) -> Result<S::Ok, S::Error> {
     s.collect_map(f.iter().map(|(k, v)| (k, v)))
-}
-
-/// One line of summary.
-pub fn summary(rep: &MissionReport) -> String {
-    format!(
-        "finished {} · back at start {} · coverage {:.2} % · repetition {:.2} · collisions {} (people into robot {}) · min clearance {:.3} m · {:.1} m in {:.0} s simulated (ideal {:.0} s, ×{:.2}) · avoidances {} · {:.0}× real time",
-        rep.finished,
-        rep.returned_to_start,
-        100.0 * rep.coverage,
-        rep.repetition,
-        rep.collisions,
-        rep.person_contacts,
-        rep.min_clearance_m,
-        rep.distance_m,
-        rep.sim_time_s,
-        rep.ideal_time_s,
-        rep.sim_time_s / rep.ideal_time_s.max(1e-9),
-        rep.avoidance_events,
-        rep.sim_time_s / rep.wall_time_s.max(1e-9),
-    )
-}
-
-/// The mission as an SVG: the ground truth, the swept floor shaded (missed
-/// reachable floor in red), the trajectory, people's tracks, avoidances
-/// (blue rings) and collisions (red crosses: the robot's; orange: a person
-/// walked into it), with the metrics as a caption.
-pub fn mission_svg(
-    map: &MapData,
-    cell_m: f64,
-    floor: &Floor,
-    t: &MissionTrace,
-    rep: &MissionReport,
-    title: &str,
-) -> String {
-    let mut c = Canvas::for_map(map, cell_m, 120.0);
-    let (s, hm) = (c.s, c.h_m);
-    // Swept / missed floor: runs of equal state in a row, one rectangle each.
-    let (res, fw, fh) = floor.dims();
-    for y in 0..fh {
-        let mut x = 0;
-        while x < fw {
-            let st = floor.state(x, y);
-            let mut x1 = x + 1;
-            while x1 < fw && floor.state(x1, y) == st {
-                x1 += 1;
-            }
-            if let Some(swept) = st {
-                let colour = if swept { "#c7e9c0" } else { "#f4a6a6" };
-                let px = (x as f64 * res * s, (hm - (y + 1) as f64 * res) * s);
-                c.rect_px((px.0, px.1, (x1 - x) as f64 * res * s, res * s), colour, "");
-            }
-            x = x1;
-        }
-    }
-    c.blocked(map, cell_m, "#555");
-    for track in &t.people {
-        c.polyline(
-            track,
-            1,
-            r##"stroke="#ff7f0e" stroke-width="1" opacity="0.5""##,
-        );
-    }
-    c.polyline(
-        &t.truth,
-        5,
-        r##"stroke="#1f3f9f" stroke-width="1.2" opacity="0.8""##,
-    );
-    for &p in &t.avoidances {
-        let (x, y) = c.px(p);
-        c.raw(&format!(
-            "<circle cx=\"{x:.1}\" cy=\"{y:.1}\" r=\"6\" fill=\"none\" stroke=\"#1f77b4\" stroke-width=\"2\"/>\n"
-        ));
-    }
-    for &(p, by_person) in &t.collisions {
-        let colour = if by_person { "#ff7f0e" } else { "#d62728" };
-        let (x, y) = c.px(p);
-        c.raw(&format!(
-            "<path d=\"M{:.1},{:.1} l12,12 m0,-12 l-12,12\" stroke=\"{colour}\" stroke-width=\"3\"/>\n",
-            x - 6.0,
-            y - 6.0
-        ));
-    }
-    let (x, y) = c.px(t.start);
-    c.raw(&format!(
-        "<rect x=\"{:.1}\" y=\"{:.1}\" width=\"12\" height=\"12\" fill=\"#2ca02c\" stroke=\"#000\"/>\n",
-        x - 6.0,
-        y - 6.0
-    ));
-    let lines = [
-        title.to_string(),
-        format!(
-            "coverage {:.2} % of {:.1} m² reachable floor · repetition {:.2} · finished {} · back at the dock {}",
-            100.0 * rep.coverage,
-            rep.floor_m2,
-            rep.repetition,
-            rep.finished,
-            rep.returned_to_start
-        ),
-        format!(
-            "collisions {} (people walking into the robot {}) · min clearance {:.3} m · avoidances {} · {:.1} m in {:.0} s (path ÷ speed {:.0} s)",
-            rep.collisions,
-            rep.person_contacts,
-            rep.min_clearance_m,
-            rep.avoidance_events,
-            rep.distance_m,
-            rep.sim_time_s,
-            rep.ideal_time_s
-        ),
-        "green: swept · red: reachable floor missed · blue line: robot · orange: people · rings: avoidances · crosses: collisions · square: dock".to_string(),
-    ];
-    c.finish(&lines)
-}
-
-/// A built-in mission map: name, ASCII text (0.1 m cells).
-pub const SUITE_MAPS: [(&str, &str); 3] = [
-    ("studio", include_str!("../../../maps/flat/studio.txt")),
-    ("home", include_str!("../../../maps/flat/home.txt")),
-    ("office", include_str!("../../../maps/flat/office.txt")),
-];
-
-/// A built-in map as map data (0.1 m cells).
-pub fn suite_map(name: &str) -> Result<MapData, String> {
-    let (_, text) = SUITE_MAPS
-        .iter()
-        .find(|(n, _)| *n == name)
-        .ok_or_else(|| format!("no built-in map {name:?}"))?;
-    crate::io::maps::parse_ascii(std::path::Path::new(name), text.as_bytes())
-        .map(|mut m| {
-            m.cell_m = Some(0.1);
-            m
-        })
-        .map_err(|e| e.to_string())
-}
-
-/// One mission of the suite.
-#[derive(Clone, Debug)]
-pub struct SuiteCase {
-    /// Map name.
-    pub map: &'static str,
-    /// Map mode.
-    pub mode: MapMode,
-    /// People.
-    pub people: usize,
-    /// Noise.
-    pub noise: Noise,
-    /// Seed.
-    pub seed: u64,
-}
-
-/// The suite: every built-in map × known/unknown × 0, 1, 3 people × noise
-/// none/realistic × `runs` seeds (from `seed`).
-pub fn suite_cases(runs: usize, seed: u64) -> Vec<SuiteCase> {
-    let mut v = Vec::new();
-    for (map, _) in SUITE_MAPS {
-        for mode in [MapMode::Known, MapMode::Unknown] {
-            for people in [0usize, 1, 3] {
-                for noise in [Noise::None, Noise::Realistic] {
-                    for k in 0..runs as u64 {
-                        v.push(SuiteCase {
-                            map,
-                            mode,
-                            people,
-                            noise,
-                            seed: seed + k,
-                        });
-                    }
-                }
-            }
-        }
-    }
-    v
-}
-
-/// Runs the suite on a rayon pool of `threads` threads; `progress(done,
-/// total)` after each
-/// mission. Results in case order.
-pub fn run_suite(
-    cases: &[SuiteCase],
-    max_time_s: f64,
-    threads: usize,
-    progress: impl Fn(usize, usize) + Sync,
-) -> Vec<Result<MissionReport, String>> {
-    use rayon::prelude::*;
-    use std::sync::atomic::{AtomicUsize, Ordering};
-    let done = AtomicUsize::new(0);
-    let run_one = |c: &SuiteCase| {
-        let r = suite_map(c.map).and_then(|map| {
-            let opts = MissionOptions {
-                map,
-                cell_m: 0.1,
-                mode: c.mode,
-                people: c.people,
-                noise: c.noise,
-                seed: c.seed,
-                max_time_s,
-                start: None,
-                kind: PlannerKind::BOha,
-                lidar_gap_s: None,
-                firmware_order: false,
-            };
-            run_mission(&opts, |_, _, _| {}).map(|(rep, _, _)| rep)
-        });
-        progress(done.fetch_add(1, Ordering::SeqCst) + 1, cases.len());
-        r
-    };
-    match rayon::ThreadPoolBuilder::new()
-        .num_threads(threads.max(1))
-        .build()
-    {
-        Ok(pool) => pool.install(|| cases.par_iter().map(run_one).collect()),
-        Err(e) => cases
-            .iter()
-            .map(|_| Err(format!("thread pool: {e}")))
-            .collect(),
-    }
 }

@@ -4,4 +4,6 @@
 pub mod bench;
 pub mod drive;
 pub mod mission;
+pub mod mission_debug;
 pub mod plan;
+pub mod suite;

@@ -1,0 +1,129 @@
+//! A mission reported: its one-line summary, its events as JSON, and its
+//! picture (on the shared [`super::svg::Canvas`]).
+
+use super::svg::Canvas;
+use crate::io::maps::MapData;
+use crate::run::mission::{MissionReport, MissionTrace};
+use crate::sim::floor::Floor;
+
+/// The executive's events as JSON: time (s) and what happened.
+pub fn events_json(events: &[robovac::mission::Event]) -> serde_json::Value {
+    let list: Vec<_> = events
+        .iter()
+        .map(
+            |e| serde_json::json!({"t_s": e.at_us as f64 * 1e-6, "event": format!("{:?}", e.kind)}),
+        )
+        .collect();
+    serde_json::Value::Array(list)
+}
+
+/// One line of summary.
+pub fn summary(rep: &MissionReport) -> String {
+    format!(
+        "finished {} · back at start {} · coverage {:.2} % · repetition {:.2} · collisions {} (people into robot {}) · min clearance {:.3} m · {:.1} m in {:.0} s simulated (ideal {:.0} s, ×{:.2}) · avoidances {} · {:.0}× real time",
+        rep.finished,
+        rep.returned_to_start,
+        100.0 * rep.coverage,
+        rep.repetition,
+        rep.collisions,
+        rep.person_contacts,
+        rep.min_clearance_m,
+        rep.distance_m,
+        rep.sim_time_s,
+        rep.ideal_time_s,
+        rep.sim_time_s / rep.ideal_time_s.max(1e-9),
+        rep.avoidance_events,
+        rep.sim_time_s / rep.wall_time_s.max(1e-9),
+    )
+}
+
+/// The mission as an SVG: the ground truth, the swept floor shaded (missed
+/// reachable floor in red), the trajectory, people's tracks, avoidances
+/// (blue rings) and collisions (red crosses: the robot's; orange: a person
+/// walked into it), with the metrics as a caption.
+pub fn mission_svg(
+    map: &MapData,
+    cell_m: f64,
+    floor: &Floor,
+    t: &MissionTrace,
+    rep: &MissionReport,
+    title: &str,
+) -> String {
+    let mut c = Canvas::for_map(map, cell_m, 120.0);
+    let (s, hm) = (c.s, c.h_m);
+    // Swept / missed floor: runs of equal state in a row, one rectangle each.
+    let (res, fw, fh) = floor.dims();
+    for y in 0..fh {
+        let mut x = 0;
+        while x < fw {
+            let st = floor.state(x, y);
+            let mut x1 = x + 1;
+            while x1 < fw && floor.state(x1, y) == st {
+                x1 += 1;
+            }
+            if let Some(swept) = st {
+                let colour = if swept { "#c7e9c0" } else { "#f4a6a6" };
+                let px = (x as f64 * res * s, (hm - (y + 1) as f64 * res) * s);
+                c.rect_px((px.0, px.1, (x1 - x) as f64 * res * s, res * s), colour, "");
+            }
+            x = x1;
+        }
+    }
+    c.blocked(map, cell_m, "#555");
+    for track in &t.people {
+        c.polyline(
+            track,
+            1,
+            r##"stroke="#ff7f0e" stroke-width="1" opacity="0.5""##,
+        );
+    }
+    c.polyline(
+        &t.truth,
+        5,
+        r##"stroke="#1f3f9f" stroke-width="1.2" opacity="0.8""##,
+    );
+    for &p in &t.avoidances {
+        let (x, y) = c.px(p);
+        c.raw(&format!(
+            "<circle cx=\"{x:.1}\" cy=\"{y:.1}\" r=\"6\" fill=\"none\" stroke=\"#1f77b4\" stroke-width=\"2\"/>\n"
+        ));
+    }
+    for &(p, by_person) in &t.collisions {
+        let colour = if by_person { "#ff7f0e" } else { "#d62728" };
+        let (x, y) = c.px(p);
+        c.raw(&format!(
+            "<path d=\"M{:.1},{:.1} l12,12 m0,-12 l-12,12\" stroke=\"{colour}\" stroke-width=\"3\"/>\n",
+            x - 6.0,
+            y - 6.0
+        ));
+    }
+    let (x, y) = c.px(t.start);
+    c.raw(&format!(
+        "<rect x=\"{:.1}\" y=\"{:.1}\" width=\"12\" height=\"12\" fill=\"#2ca02c\" stroke=\"#000\"/>\n",
+        x - 6.0,
+        y - 6.0
+    ));
+    let lines = [
+        title.to_string(),
+        format!(
+            "coverage {:.2} % of {:.1} m² reachable floor · repetition {:.2} · finished {} · back at the dock {}",
+            100.0 * rep.coverage,
+            rep.floor_m2,
+            rep.repetition,
+            rep.finished,
+            rep.returned_to_start
+        ),
+        format!(
+            "collisions {} (people walking into the robot {}) · min clearance {:.3} m · avoidances {} · {:.1} m in {:.0} s (path ÷ speed {:.0} s)",
+            rep.collisions,
+            rep.person_contacts,
+            rep.min_clearance_m,
+            rep.avoidance_events,
+            rep.distance_m,
+            rep.sim_time_s,
+            rep.ideal_time_s
+        ),
+        "green: swept · red: reachable floor missed · blue line: robot · orange: people · rings: avoidances · crosses: collisions · square: dock".to_string(),
+    ];
+    c.finish(&lines)
+}

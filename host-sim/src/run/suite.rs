@@ -1,0 +1,113 @@
+//! The built-in mission suite: its maps, its cases, and running them on a
+//! thread pool.
+
+use robovac::coverage::PlannerKind;
+use robovac::mission::MapMode;
+
+use super::mission::{run_mission, MissionOptions, MissionReport};
+use crate::io::maps::MapData;
+use crate::sim::robot::Noise;
+
+/// A built-in mission map: name, ASCII text (0.1 m cells).
+pub const SUITE_MAPS: [(&str, &str); 3] = [
+    ("studio", include_str!("../../../maps/flat/studio.txt")),
+    ("home", include_str!("../../../maps/flat/home.txt")),
+    ("office", include_str!("../../../maps/flat/office.txt")),
+];
+
+/// A built-in map as map data (0.1 m cells).
+pub fn suite_map(name: &str) -> Result<MapData, String> {
+    let (_, text) = SUITE_MAPS
+        .iter()
+        .find(|(n, _)| *n == name)
+        .ok_or_else(|| format!("no built-in map {name:?}"))?;
+    crate::io::maps::parse_ascii(std::path::Path::new(name), text.as_bytes())
+        .map(|mut m| {
+            m.cell_m = Some(0.1);
+            m
+        })
+        .map_err(|e| e.to_string())
+}
+
+/// One mission of the suite.
+#[derive(Clone, Debug)]
+pub struct SuiteCase {
+    /// Map name.
+    pub map: &'static str,
+    /// Map mode.
+    pub mode: MapMode,
+    /// People.
+    pub people: usize,
+    /// Noise.
+    pub noise: Noise,
+    /// Seed.
+    pub seed: u64,
+}
+
+/// The suite: every built-in map × known/unknown × 0, 1, 3 people × noise
+/// none/realistic × `runs` seeds (from `seed`).
+pub fn suite_cases(runs: usize, seed: u64) -> Vec<SuiteCase> {
+    let mut v = Vec::new();
+    for (map, _) in SUITE_MAPS {
+        for mode in [MapMode::Known, MapMode::Unknown] {
+            for people in [0usize, 1, 3] {
+                for noise in [Noise::None, Noise::Realistic] {
+                    for k in 0..runs as u64 {
+                        v.push(SuiteCase {
+                            map,
+                            mode,
+                            people,
+                            noise,
+                            seed: seed + k,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    v
+}
+
+/// Runs the suite on a rayon pool of `threads` threads; `progress(done,
+/// total)` after each
+/// mission. Results in case order.
+pub fn run_suite(
+    cases: &[SuiteCase],
+    max_time_s: f64,
+    threads: usize,
+    progress: impl Fn(usize, usize) + Sync,
+) -> Vec<Result<MissionReport, String>> {
+    use rayon::prelude::*;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let done = AtomicUsize::new(0);
+    let run_one = |c: &SuiteCase| {
+        let r = suite_map(c.map).and_then(|map| {
+            let opts = MissionOptions {
+                map,
+                cell_m: 0.1,
+                mode: c.mode,
+                people: c.people,
+                noise: c.noise,
+                seed: c.seed,
+                max_time_s,
+                start: None,
+                kind: PlannerKind::BOha,
+                lidar_gap_s: None,
+                firmware_order: false,
+            };
+            run_mission(&opts, |_, _, _| {}).map(|(rep, _, _)| rep)
+        });
+        progress(done.fetch_add(1, Ordering::SeqCst) + 1, cases.len());
+        r
+    };
+    match rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.max(1))
+        .build()
+    {
+        Ok(pool) => pool.install(|| cases.par_iter().map(run_one).collect()),
+        Err(e) => cases
+            .iter()
+            .map(|_| Err(format!("thread pool: {e}")))
+            .collect(),
+    }
+}
