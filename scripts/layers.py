@@ -22,8 +22,9 @@ ALLOWED = {
     "verify": {"math", "grid"},
     "coverage": {"math", "grid", "search", "verify"},
     "robot": {"math", "grid"},
+    "localize": {"math", "grid", "robot"},
     "nav": {"math", "grid", "search", "robot"},
-    "mission": {"math", "grid", "search", "verify", "coverage", "robot", "nav"},
+    "mission": {"math", "grid", "search", "verify", "coverage", "robot", "nav", "localize"},
     "capacity": {"math", "grid", "search", "coverage"},
 }
 PATH = re.compile(r"\b(crate|super)::([a-z_0-9]+(?:::[a-z_0-9]+)*)")

@@ -15,6 +15,7 @@
 //!    │
 //! nav       configuration space, path follower, guard, DWA, edge pass,
 //!    │      geometry                                  (seed 002 §3.1)
+//!    │      localize  scan-to-map matching, fusion   (Hector SLAM)
 //!    ├──────────────┐
 //! coverage  │       robot     hal traits, odometry, wheel control,
 //!  B-OHA*,  │                 LD06 lidar, evidence map
@@ -39,6 +40,9 @@
 //!   B-Theta*, our B-OHA*-PC) on one step loop and one bounded list.
 //! - [`robot`]: hardware traits ([`robot::hal`]), odometry, wheel control,
 //!   the LD06 parser and scan assembly, the evidence map.
+//! - [`localize`]: scan-to-map matching (multi-resolution Gauss–Newton,
+//!   correlative searches for the start and a kidnap) and its fusion with
+//!   odometry.
 //! - [`nav`]: configuration space, path follower, guard, DWA, edge pass.
 //! - [`mission`]: the executive that runs a cleaning mission from sensor
 //!   bytes to motor duties.
@@ -58,6 +62,7 @@
 pub mod capacity;
 pub mod coverage;
 pub mod grid;
+pub mod localize;
 pub mod math;
 pub mod mission;
 pub mod nav;

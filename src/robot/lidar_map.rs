@@ -34,6 +34,12 @@ pub const LIMIT: i8 = 20;
 pub const OCCUPIED_AT: i8 = 2;
 /// Free at or below.
 pub const FREE_AT: i8 = -1;
+/// A wall of the prior map (known mode, after [`EvidenceMap::freeze_prior`]):
+/// occupied, and never changed by what the lidar sees, so drift cannot
+/// write itself into the map the robot localises against. What the lidar
+/// adds (people, a moved chair) lives in the other cells' counters, apart
+/// from it.
+pub const PRIOR_WALL: i8 = i8::MAX;
 
 /// What the map says about a cell.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -190,7 +196,33 @@ impl<const N: usize> EvidenceMap<N> {
 
     fn add(&mut self, cx: i32, cy: i32, d: i8) {
         if let Some(c) = self.index(cx, cy).and_then(|i| self.counts.get_mut(i)) {
-            *c = c.saturating_add(d).clamp(-LIMIT, LIMIT);
+            if *c != PRIOR_WALL {
+                *c = c.saturating_add(d).clamp(-LIMIT, LIMIT);
+            }
+        }
+    }
+
+    /// Known mode: turns every occupied cell into a [`PRIOR_WALL`], fixed
+    /// from now on. Returns the number of walls frozen.
+    pub fn freeze_prior(&mut self) -> u32 {
+        let mut n = 0;
+        for c in self.counts.iter_mut() {
+            if *c >= OCCUPIED_AT {
+                *c = PRIOR_WALL;
+                n += 1;
+            }
+        }
+        n
+    }
+
+    /// True for a wall the scan matcher aligns to: a prior wall when
+    /// `prior_only` (known mode), any occupied cell otherwise.
+    pub fn is_wall(&self, cx: i32, cy: i32, prior_only: bool) -> bool {
+        let e = self.evidence(cx, cy);
+        if prior_only {
+            e == PRIOR_WALL
+        } else {
+            e >= OCCUPIED_AT
         }
     }
 

@@ -10,7 +10,7 @@ use super::mission_debug::{debug_collision, debug_grid, debug_tick};
 use robovac::coverage::PlannerKind;
 use robovac::mission::{MapMode, Mission, MissionConfig, MotorCmd, Parts, State};
 use robovac::robot::hal::{ByteSource, MotorDriver};
-use robovac::robot::lidar_map::{CellState, EvidenceMap};
+use robovac::robot::lidar_map::EvidenceMap;
 use robovac::robot::odometry::Pose;
 use robovac::Cell;
 
@@ -293,30 +293,7 @@ fn mission_config(opts: &MissionOptions, cfg: &RobotConfig, r: f64) -> MissionCo
 /// Sizes the evidence map to the world; known mode fills it with the floor
 /// plan.
 fn prior_map(hp: &mut HostParts, world: &World, mode: MapMode) -> Result<(), String> {
-    let (wm, hm) = world.size_m();
-    let (ew, eh) = (
-        ((wm * 1000.0).round() as u32).div_ceil(EVIDENCE_MM),
-        ((hm * 1000.0).round() as u32).div_ceil(EVIDENCE_MM),
-    );
-    hp.map
-        .reset(ew, eh, EVIDENCE_MM)
-        .map_err(|e| format!("map too large for the evidence map: {e}"))?;
-    if mode != MapMode::Known {
-        return Ok(());
-    }
-    let res = EVIDENCE_MM as f64 / 1000.0;
-    for cy in 0..eh as i32 {
-        for cx in 0..ew as i32 {
-            let (x, y) = ((cx as f64 + 0.5) * res, (eh as f64 - cy as f64 - 0.5) * res);
-            let st = if world.blocked_at(x, y) {
-                CellState::Occupied
-            } else {
-                CellState::Free
-            };
-            hp.map.set_state(cx, cy, st);
-        }
-    }
-    Ok(())
+    crate::sim::scan::fill_prior(&mut hp.map, world, EVIDENCE_MM, mode == MapMode::Known)
 }
 
 /// One control period: physics, the lidar bytes that arrived (unless in

@@ -3,4 +3,5 @@
 
 pub mod floor;
 pub mod robot;
+pub mod scan;
 pub mod world;

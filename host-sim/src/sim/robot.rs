@@ -175,7 +175,7 @@ pub struct Sim {
     pub distance_m: f64,
 }
 
-fn gauss(rng: &mut SplitMix64) -> f64 {
+pub fn gauss(rng: &mut SplitMix64) -> f64 {
     // Box–Muller from two uniform draws.
     let u1 = ((rng.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
     let u2 = ((rng.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64;

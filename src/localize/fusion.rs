@@ -1,0 +1,287 @@
+//! What a match is allowed to change, and when the robot is lost.
+//!
+//! **Tracking** (every revolution, [`track`]): the best heading within
+//! ±6° of the odometry's (a slip burst turns the robot by a few degrees,
+//! beyond Gauss–Newton's basin at far points), then Gauss–Newton on the
+//! 10 cm and the 5 cm levels. (The 20 cm level is not used for tracking:
+//! a wall two fine cells thick fills under half of its blocks, and its
+//! pull of up to 7 mrad was worse than the prediction.) The result
+//! is accepted only when it is well conditioned:
+//! - at least [`MIN_INLIER_PCT`] % of the points land on walls;
+//! - per axis, by the translational information matrix's eigenvalues
+//!   (Hector's H is the inverse covariance up to the noise scale): both
+//!   above [`MIN_INFO`] → the whole correction; only the larger (a
+//!   corridor, a scan mostly hidden by people) → the correction along the
+//!   constrained axis only; neither → none;
+//! - the heading only when its information passes [`MIN_INFO_THETA`];
+//! - a correction beyond [`GATE_MM`] or [`GATE_URAD`] is not believed
+//!   (it counts as a failed match).
+//!
+//! Otherwise the odometry carries on alone. An accepted correction is
+//! applied at most [`STEP_MM`] and [`STEP_URAD`] per revolution (10 Hz), so
+//! the follower sees the pose glide, not jump; the rest is measured again
+//! at the next revolution.
+//!
+//! **Lost** (a kidnap): [`LOST_AFTER`] revolutions in a row in which fewer
+//! than [`LOST_INLIER_PCT`] % of the points fit, both at the odometry's
+//! prediction and after refinement, after the robot had been tracking:
+//! the odometry and the lidar disagree. The executive then brakes and
+//! relocalises over the whole map ([`super::correlative::global`]).
+
+use super::correlative::{self, wrap_urad};
+use super::field::Field;
+use super::gauss_newton::{normal, refine, Normal};
+use super::{Match, MatchError, PoseU, ScanMatcher};
+use crate::math::cost::isqrt_u64;
+use crate::robot::lidar_map::EvidenceMap;
+
+/// Points a match needs.
+pub const MIN_POINTS: u32 = 30;
+/// Share of points on walls for an accepted match, %.
+pub const MIN_INLIER_PCT: u32 = 35;
+/// Information an axis needs (Q16 per 5 cm cell²: about a dozen points
+/// with a full gradient across it).
+pub const MIN_INFO: i64 = 12 * 65_536;
+/// Heading information needed (Q16 per rad²: a dozen points 1 m away).
+pub const MIN_INFO_THETA: i64 = 12 * 5_120 * 5_120;
+/// Largest correction believed in one revolution, mm.
+pub const GATE_MM: i32 = 300;
+/// Largest heading correction believed in one revolution, µrad.
+pub const GATE_URAD: i64 = 260_000;
+/// Largest correction applied per revolution, mm.
+pub const STEP_MM: i32 = 40;
+/// Largest heading correction applied per revolution, µrad.
+pub const STEP_URAD: i64 = 35_000;
+/// Revolutions of poor fit in a row that mean the robot is lost.
+pub const LOST_AFTER: u8 = 5;
+/// Share of points on walls below which a revolution counts toward lost, %.
+pub const LOST_INLIER_PCT: u32 = 20;
+/// Share of points a relocalisation must fit, %.
+pub const RELOC_INLIER_PCT: u32 = 50;
+/// Lead (in % of the points) the best relocalisation candidate needs over
+/// a distinct runner-up.
+pub const RELOC_MARGIN_PCT: u32 = 8;
+
+/// What localisation counted.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct LocStats {
+    /// Revolutions matched.
+    pub matches: u32,
+    /// Corrections applied in full.
+    pub accepted: u32,
+    /// Corrections applied along one axis only (poorly conditioned).
+    pub partial: u32,
+    /// Matches rejected (poor fit, too few points, beyond the gate).
+    pub rejected: u32,
+    /// Times the robot found itself lost.
+    pub lost: u32,
+    /// Relocalisations that succeeded (start and after being lost).
+    pub relocalised: u32,
+    /// Relocalisation attempts that were ambiguous or fitted poorly.
+    pub reloc_failed: u32,
+    /// Coarse-level rebuilds.
+    pub rebuilds: u32,
+}
+
+/// A correction to apply: (Δx mm, Δy mm, Δθ µrad).
+pub type Correction = (i32, i32, i64);
+
+/// The tracking state kept between revolutions (small; lives in the
+/// executive).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Fusion {
+    /// Counters.
+    pub stats: LocStats,
+    poor_in_row: u8,
+    tracking: bool,
+    /// True from a lost detection until a relocalisation succeeds.
+    pub lost: bool,
+}
+
+impl Fusion {
+    /// A fresh state.
+    pub const fn new() -> Self {
+        Self {
+            stats: LocStats {
+                matches: 0,
+                accepted: 0,
+                partial: 0,
+                rejected: 0,
+                lost: 0,
+                relocalised: 0,
+                reloc_failed: 0,
+                rebuilds: 0,
+            },
+            poor_in_row: 0,
+            tracking: false,
+            lost: false,
+        }
+    }
+
+    /// Matches the loaded scan from its reference pose; returns the
+    /// correction to apply now (possibly partial or zero).
+    pub fn track<const EV: usize, const MW: usize>(
+        &mut self,
+        m: &ScanMatcher<MW>,
+        map: &EvidenceMap<EV>,
+        prior_only: bool,
+    ) -> Result<Correction, MatchError> {
+        self.stats.matches += 1;
+        let r = track(m, map, prior_only);
+        let pts = m.points.as_slice().len() as u32;
+        let fit_pct = |inl: u32| inl * 100 / pts.max(1);
+        let poor = match &r {
+            Ok((mt, at_guess)) => {
+                fit_pct(mt.inliers) < LOST_INLIER_PCT && fit_pct(*at_guess) < LOST_INLIER_PCT
+            }
+            Err(MatchError::PoorFit) => true,
+            Err(_) => false,
+        };
+        self.poor_in_row = if poor {
+            self.poor_in_row.saturating_add(1)
+        } else {
+            0
+        };
+        if self.tracking && self.poor_in_row >= LOST_AFTER && !self.lost {
+            self.lost = true;
+            self.stats.lost += 1;
+        }
+        let out = r.and_then(|(mt, _)| self.accept(&mt, m.points.reference()));
+        if out.is_err() {
+            self.stats.rejected += 1;
+        }
+        out
+    }
+
+    /// The policy of the module doc on one refined match.
+    fn accept(&mut self, mt: &Match, from: PoseU) -> Result<Correction, MatchError> {
+        if mt.inliers * 100 < MIN_INLIER_PCT * mt.points {
+            return Err(MatchError::PoorFit);
+        }
+        let (mut dx, mut dy) = (mt.pose.x_mm - from.x_mm, mt.pose.y_mm - from.y_mm);
+        let mut dt = wrap_urad(mt.pose.theta_urad - from.theta_urad);
+        if dx.abs() > GATE_MM || dy.abs() > GATE_MM || dt.abs() > GATE_URAD {
+            return Err(MatchError::PoorFit);
+        }
+        self.tracking = true;
+        if mt.info_max < MIN_INFO {
+            (dx, dy) = (0, 0);
+        } else if mt.info_min < MIN_INFO {
+            let (ax, ay) = (mt.strong_axis_q14.0 as i64, mt.strong_axis_q14.1 as i64);
+            let along = (dx as i64 * ax + dy as i64 * ay) >> 14;
+            (dx, dy) = (((along * ax) >> 14) as i32, ((along * ay) >> 14) as i32);
+            self.stats.partial += 1;
+        } else {
+            self.stats.accepted += 1;
+        }
+        if mt.info_theta < MIN_INFO_THETA {
+            dt = 0;
+        }
+        Ok((
+            dx.clamp(-STEP_MM, STEP_MM),
+            dy.clamp(-STEP_MM, STEP_MM),
+            dt.clamp(-STEP_URAD, STEP_URAD),
+        ))
+    }
+
+    /// Relocalises the loaded scan: within a window around its reference
+    /// (`global` false: ±0.25 m, ±15°) or over the whole map. Returns the
+    /// pose, or why not. Clears `lost` on success.
+    pub fn relocalise<const EV: usize, const MW: usize>(
+        &mut self,
+        m: &ScanMatcher<MW>,
+        map: &EvidenceMap<EV>,
+        prior_only: bool,
+        global: bool,
+    ) -> Result<PoseU, MatchError> {
+        let pts = m.points.as_slice();
+        if (pts.len() as u32) < MIN_POINTS {
+            return Err(MatchError::TooFewPoints);
+        }
+        if !m.pyramid.ready() {
+            return Err(MatchError::MapTooLarge);
+        }
+        let f = |k| Field::new(map, &m.pyramid, k, prior_only);
+        let top = if global {
+            correlative::sharpen(&f(1), pts, &correlative::global(&f(3), map, pts))
+        } else {
+            let mut top = correlative::TopK::new();
+            let w = &correlative::START_WINDOW;
+            correlative::window(&f(1), pts, m.points.reference(), w, &mut top);
+            top
+        };
+        let (best, runner) = correlative::settle(&[f(1), f(0)], pts, &top);
+        let best = best.ok_or(MatchError::Unconstrained)?;
+        let n = pts.len() as u32;
+        let lead = best.inliers.saturating_sub(runner.map_or(0, |r| r.inliers));
+        if best.inliers * 100 < RELOC_INLIER_PCT * n || lead * 100 < RELOC_MARGIN_PCT * n {
+            self.stats.reloc_failed += 1;
+            return Err(MatchError::PoorFit);
+        }
+        self.stats.relocalised += 1;
+        self.lost = false;
+        self.poor_in_row = 0;
+        self.tracking = true;
+        Ok(best.pose)
+    }
+}
+
+/// Refines the loaded scan from its reference pose through the levels;
+/// returns the match and the inliers at the prediction itself.
+pub fn track<const EV: usize, const MW: usize>(
+    m: &ScanMatcher<MW>,
+    map: &EvidenceMap<EV>,
+    prior_only: bool,
+) -> Result<(Match, u32), MatchError> {
+    let pts = m.points.as_slice();
+    if (pts.len() as u32) < MIN_POINTS {
+        return Err(MatchError::TooFewPoints);
+    }
+    let guess = m.points.reference();
+    let fine = Field::new(map, &m.pyramid, 0, prior_only);
+    let at_guess = normal(&fine, pts, &guess).inliers;
+    let mut pose = guess;
+    if m.pyramid.ready() {
+        let f1 = Field::new(map, &m.pyramid, 1, prior_only);
+        pose = correlative::best_heading(&f1, pts, pose, 6, 17_453);
+        pose = refine(&f1, pts, pose, 5).0;
+    }
+    let (pose, n) = refine(&fine, pts, pose, 6);
+    if n.near < MIN_POINTS / 2 {
+        return Err(MatchError::Unconstrained);
+    }
+    Ok((conditioned(pose, &n, pts.len() as u32), at_guess))
+}
+
+/// A match with its information measures (the module doc's conditioning).
+pub fn conditioned(pose: PoseU, n: &Normal, points: u32) -> Match {
+    let [a, b, c, d, e, f] = n.h;
+    let _ = (c, e);
+    let half_tr = (a + d) / 2;
+    let half_diff = (a - d) / 2;
+    let disc =
+        isqrt_u64((half_diff as i128 * half_diff as i128 + b as i128 * b as i128) as u64) as i64;
+    let (lmax, lmin) = (half_tr + disc, half_tr - disc);
+    // Eigenvector of λmax: (b, λmax − a) or (λmax − d, b), the longer.
+    let (v1, v2) = ((b, lmax - a), (lmax - d, b));
+    let norm = |v: (i64, i64)| {
+        isqrt_u64((v.0 as i128 * v.0 as i128 + v.1 as i128 * v.1 as i128) as u64) as i64
+    };
+    let v = if norm(v1) >= norm(v2) { v1 } else { v2 };
+    let len = norm(v).max(1);
+    let axis = if norm(v) == 0 {
+        (1 << 14, 0)
+    } else {
+        (((v.0 << 14) / len) as i32, ((v.1 << 14) / len) as i32)
+    };
+    Match {
+        pose,
+        inliers: n.inliers,
+        points,
+        info_min: lmin,
+        info_max: lmax,
+        strong_axis_q14: axis,
+        info_theta: f,
+    }
+}
