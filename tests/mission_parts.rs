@@ -20,6 +20,7 @@ const GUARD: GuardParams = GuardParams {
     reserve_mm: 20,
     creep_mm_s: 40,
     moving_margin_mm: 60,
+    mapped_slack_mm: 0,
 };
 
 #[test]

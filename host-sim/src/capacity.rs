@@ -20,6 +20,11 @@ pub const HOST_LCAP: usize = HOST_CELLS;
 pub const HOST_PCAP: usize = HOST_CELLS;
 /// Evidence cells on the host (up to 75 m × 75 m at 5 cm).
 pub const HOST_EVIDENCE: usize = 1500 * 1500;
+/// Words of the scan matcher's coarse levels for the host evidence map.
+pub const HOST_MATCH_WORDS: usize = robovac::localize::matcher_words(1500, 1500);
+/// The host's scan matcher.
+pub type HostMatcher = robovac::localize::ScanMatcher<HOST_MATCH_WORDS>;
+
 /// Frames per revolution the scan assembler holds.
 pub const SCAN_FRAMES: usize = 64;
 

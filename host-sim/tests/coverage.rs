@@ -22,6 +22,7 @@ fn map_from_ascii(s: &str) -> MapData {
             .flat_map(|r| r.bytes().map(|b| b == b'#'))
             .collect(),
         cell_m: None,
+        ..Default::default()
     }
 }
 
@@ -253,6 +254,7 @@ fn random_map(w: u32, h: u32, density: u32, seed: u64, kind: u8) -> MapData {
         height: h,
         blocked,
         cell_m: None,
+        ..Default::default()
     }
 }
 

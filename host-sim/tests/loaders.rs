@@ -237,3 +237,81 @@ fn load_cells(p: &std::path::Path, cell_m: f64) -> MapData {
     )
     .unwrap()
 }
+
+/// The six real homes load: floor area, rooms and a dock, as their README
+/// lists them.
+#[test]
+fn valetudo_homes_load() {
+    let expect = [
+        ("S8_FW1286_with_obstacles.json", 36.5, 6),
+        ("z10_1056_paths.json", 40.9, 7),
+        ("1c_1096_virtualwall_and_forbidden_zone.json", 29.3, 3),
+        (
+            "S6_FW2652_with_active_segment_and_no_mop_zone.json",
+            46.0,
+            6,
+        ),
+        ("converted_3790.json", 51.8, 7),
+        ("l10su_1121_new_path.json", 37.3, 5),
+    ];
+    for (f, m2, rooms) in expect {
+        let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../maps/valetudo")
+            .join(f);
+        let m = host_sim::io::maps::load_map(&p, Default::default()).unwrap();
+        let free = m.blocked.iter().filter(|b| !**b).count() as f64 * 0.05 * 0.05;
+        assert!((free - m2).abs() < 0.05 * m2, "{f}: {free:.1} m² vs {m2}");
+        let x = m.extras.as_ref().unwrap();
+        assert_eq!(x.rooms.len(), rooms, "{f}");
+        assert!(m.dock.is_some(), "{f}");
+    }
+}
+
+/// Malformed ValetudoMap files: a one-line error each, never a panic.
+#[test]
+fn bad_valetudo_files_are_refused() {
+    let dir = test_support::temp_dir("valetudo-bad");
+    let cases = [
+        ("not json", "not ValetudoMap JSON"),
+        (
+            r#"{"__class":"ValetudoMap","metaData":{"version":1},"pixelSize":5,"layers":[]}"#,
+            "version",
+        ),
+        (
+            r#"{"__class":"Other","metaData":{"version":2}}"#,
+            "not a ValetudoMap",
+        ),
+        (
+            r#"{"__class":"ValetudoMap","metaData":{"version":2},"pixelSize":5}"#,
+            "no layers",
+        ),
+        (
+            r#"{"__class":"ValetudoMap","metaData":{"version":2},"pixelSize":5,"layers":[]}"#,
+            "no floor",
+        ),
+        (
+            r#"{"__class":"ValetudoMap","metaData":{"version":2},"pixelSize":9999,"layers":[]}"#,
+            "absurd",
+        ),
+        (
+            r#"{"__class":"ValetudoMap","metaData":{"version":2},"pixelSize":5,"layers":[{"type":"floor","pixels":[-3,4]}]}"#,
+            "out of range",
+        ),
+        (
+            r#"{"__class":"ValetudoMap","metaData":{"version":2},"pixelSize":5,"layers":[{"type":"floor","compressedPixels":[1,2]}]}"#,
+            "wrong length",
+        ),
+        (
+            r#"{"__class":"ValetudoMap","metaData":{"version":2},"pixelSize":5,"layers":[{"type":"floor","pixels":[0,0,90000,90000]}]}"#,
+            "spans",
+        ),
+    ];
+    for (i, (text, want)) in cases.iter().enumerate() {
+        let p = dir.join(format!("bad{i}.json"));
+        std::fs::write(&p, text).unwrap();
+        let e = host_sim::io::maps::load_map(&p, Default::default())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(want) && !e.contains('\n'), "case {i}: {e}");
+    }
+}

@@ -23,6 +23,7 @@ fn room(w: u32, h: u32) -> MapData {
         height: h,
         blocked,
         cell_m: None,
+        ..Default::default()
     }
 }
 

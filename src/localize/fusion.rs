@@ -38,7 +38,7 @@ use crate::robot::lidar_map::EvidenceMap;
 /// Points a match needs.
 pub const MIN_POINTS: u32 = 30;
 /// Share of points on walls for an accepted match, %.
-pub const MIN_INLIER_PCT: u32 = 35;
+pub const MIN_INLIER_PCT: u32 = 50;
 /// Information an axis needs (Q16 per 5 cm cell²: about a dozen points
 /// with a full gradient across it).
 pub const MIN_INFO: i64 = 12 * 65_536;
@@ -52,10 +52,12 @@ pub const GATE_URAD: i64 = 260_000;
 pub const STEP_MM: i32 = 40;
 /// Largest heading correction applied per revolution, µrad.
 pub const STEP_URAD: i64 = 35_000;
-/// Revolutions of poor fit in a row that mean the robot is lost.
+/// Revolutions of poor fit in a row that mean the robot is lost (a
+/// revolution fits 90–99 % of its points at the true pose in the twin,
+/// 80 % and more with people about).
 pub const LOST_AFTER: u8 = 5;
 /// Share of points on walls below which a revolution counts toward lost, %.
-pub const LOST_INLIER_PCT: u32 = 20;
+pub const LOST_INLIER_PCT: u32 = 50;
 /// Share of points a relocalisation must fit, %.
 pub const RELOC_INLIER_PCT: u32 = 50;
 /// Lead (in % of the points) the best relocalisation candidate needs over
@@ -82,6 +84,9 @@ pub struct LocStats {
     pub reloc_failed: u32,
     /// Coarse-level rebuilds.
     pub rebuilds: u32,
+    /// The last match: share of points on walls at the prediction and
+    /// after refinement, %.
+    pub last_fit_pct: (u32, u32),
 }
 
 /// A correction to apply: (Δx mm, Δy mm, Δθ µrad).
@@ -112,6 +117,7 @@ impl Fusion {
                 relocalised: 0,
                 reloc_failed: 0,
                 rebuilds: 0,
+                last_fit_pct: (0, 0),
             },
             poor_in_row: 0,
             tracking: false,
@@ -131,11 +137,16 @@ impl Fusion {
         let r = track(m, map, prior_only);
         let pts = m.points.as_slice().len() as u32;
         let fit_pct = |inl: u32| inl * 100 / pts.max(1);
+        if let Ok((mt, g)) = &r {
+            self.stats.last_fit_pct = (fit_pct(*g), fit_pct(mt.inliers));
+        }
         let poor = match &r {
             Ok((mt, at_guess)) => {
                 fit_pct(mt.inliers) < LOST_INLIER_PCT && fit_pct(*at_guess) < LOST_INLIER_PCT
             }
-            Err(MatchError::PoorFit) => true,
+            // Nothing lands near a wall: after a kidnap the map around the
+            // prediction explains none of the scan.
+            Err(MatchError::PoorFit | MatchError::Unconstrained) => true,
             Err(_) => false,
         };
         self.poor_in_row = if poor {

@@ -64,6 +64,11 @@ pub fn heading_change_mrad(a: i32, b: i32) -> i32 {
     d
 }
 
+/// A heading difference wrapped to [−π, π), mrad.
+pub fn wrap_mrad(d: i32) -> i32 {
+    (d + PI_MRAD).rem_euclid(2 * PI_MRAD) - PI_MRAD
+}
+
 /// 1/K of the CORDIC gain in Q40 (0.6072529350088813 · 2^40): the
 /// rotations run with ten guard bits and round to Q30 at the end.
 const CORDIC_K_Q40: i64 = 667_681_663_176;

@@ -14,7 +14,7 @@ use super::{Activity, Capacity, EventKind, Fault, Mission, MotorCmd, Phase};
 use crate::nav::cspace;
 use crate::nav::follow::{follow, FollowCmd};
 use crate::nav::geometry::to_robot;
-use crate::nav::guard::{free_distance_mm, limit_speed, GuardParams};
+use crate::nav::guard::{free_distance_slack_mm, limit_speed, GuardParams};
 use crate::robot::odometry::Pose;
 
 /// What the sensing half measured, for the acting half.
@@ -44,7 +44,7 @@ impl Mission {
             self.cmd = (0, 0);
             return Err(MotorCmd::Brake);
         }
-        if self.lidar_silent(now_us) {
+        if self.lidar_silent(now_us) || self.relocalising(now_us) {
             return Err(MotorCmd::Brake);
         }
         if self.halted_since.take().is_some() {
@@ -116,6 +116,21 @@ impl Mission {
         true
     }
 
+    /// Lost: brake until relocalised; fail after `lost_timeout_us`. True
+    /// while lost.
+    fn relocalising(&mut self, now_us: u64) -> bool {
+        if !self.loc.lost {
+            return false;
+        }
+        self.halted_since.get_or_insert(now_us);
+        if now_us.saturating_sub(self.lost_since_us) > self.cfg.lost_timeout_us {
+            self.phase = Phase::Failed(Fault::Lost);
+        }
+        self.cmd = (0, 0);
+        self.drive.wheels.clear_fault();
+        true
+    }
+
     /// Adds a note for the planning step (dropped and reported when full).
     fn hand_off(&mut self, now_us: u64, n: Note) {
         if !self.handoff.push(n) {
@@ -151,6 +166,7 @@ impl Mission {
     fn motion(&mut self, now_us: u64, pose: &Pose) -> (i32, i32) {
         match self.phase {
             Phase::SelfTestWheels { .. } => return (0, 800),
+            Phase::Align => return self.align(pose),
             Phase::Cover | Phase::Edge | Phase::ReturnSearch | Phase::Return => {}
             _ => return (0, 0),
         }
@@ -168,6 +184,18 @@ impl Mission {
             Activity::Avoid => self.dwa_cmd,
             Activity::Follow => self.follow_front(now_us, pose),
         }
+    }
+
+    /// At the dock: turn in place to the start's heading (proportional,
+    /// 0.15–0.8 rad/s), done within 15 mrad.
+    fn align(&mut self, pose: &Pose) -> (i32, i32) {
+        let e = crate::math::angle::wrap_mrad(self.start.theta_mrad - pose.theta_mrad);
+        if e.abs() <= 15 {
+            self.phase = Phase::Done;
+            return (0, 0);
+        }
+        let w = (3 * e).clamp(-800, 800);
+        (0, if w.abs() < 150 { 150 * e.signum() } else { w })
     }
 
     /// Drives the front sub-path; drops it when done or timed out.
@@ -219,10 +247,12 @@ impl Mission {
     /// edge the body into it, so back straight away from it instead.
     fn escape(&mut self, pose: &Pose, v: i32, w: i32) -> (i32, i32) {
         let close = (self.cfg.radius_mm + self.cfg.escape_mm) as i64;
+        let slack = self.cfg.guard.mapped_slack_mm as i64;
         let (mut n_close, mut sum_x) = (0i64, 0i64);
-        for q in self.points() {
-            let (x, y) = to_robot(pose, q);
-            if (x as i64).pow(2) + (y as i64).pow(2) < close * close {
+        for &(qx, qy, mapped) in self.lidar.ring.as_slice() {
+            let (x, y) = to_robot(pose, (qx, qy));
+            let c = if mapped { close - slack } else { close };
+            if (x as i64).pow(2) + (y as i64).pow(2) < c * c {
                 n_close += 1;
                 sum_x += x as i64;
             }
@@ -249,18 +279,18 @@ impl Mission {
             theta_mrad: pose.theta_mrad + w / 4,
             ..*pose
         };
-        let free_along = |mapped: bool, radius: i32| {
+        let free_along = |mapped: bool, radius: i32, slack: i32| {
             [*pose, turned]
                 .iter()
                 .map(|p| {
                     let pts = self.points_where(mapped).map(|q| to_robot(p, q));
-                    free_distance_mm(pts, radius, v > 0)
+                    free_distance_slack_mm(pts, radius, slack, v > 0)
                 })
                 .min()
                 .unwrap_or(i32::MAX)
         };
-        let free_static = free_along(true, g.radius_mm);
-        let free_moving = free_along(false, g.radius_mm + g.moving_margin_mm);
+        let free_static = free_along(true, g.radius_mm, g.mapped_slack_mm);
+        let free_moving = free_along(false, g.radius_mm + g.moving_margin_mm, 0);
         let lim_static = limit_speed(&g, v, free_static);
         let moving = GuardParams {
             reserve_mm: g.reserve_mm + g.moving_margin_mm,

@@ -44,6 +44,20 @@ pub enum EventKind {
     Fault(Fault),
     /// A capacity was exceeded; the mission goes on.
     Capacity(Capacity),
+    /// The scan matcher lost the robot (a kidnap): braking to relocalise.
+    Lost,
+    /// Relocalised: at the start (within the window around the dock) or
+    /// over the whole map after being lost.
+    Relocalised {
+        /// The pose found, mm and mrad.
+        x_mm: i32,
+        /// North, mm.
+        y_mm: i32,
+        /// Heading, mrad.
+        theta_mrad: i32,
+        /// How far it was from the odometry's, mm (Manhattan).
+        moved_mm: i32,
+    },
 }
 
 /// An event and when it happened.

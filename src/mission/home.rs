@@ -1,5 +1,6 @@
 //! The way home: A* on the fine configuration space to the dock, planned
-//! again when cut short; done only within 100 mm of the dock.
+//! again when cut short; at the dock (within 100 mm) a turn in place to
+//! the heading it left with, so it backs onto its charger's contacts.
 
 use super::{Fault, Feed, MapMode, Phase, HOME_TRIES};
 use crate::nav::cspace;
@@ -26,7 +27,7 @@ sized_impl!([] {
         // timeout) is planned again, a few times.
         let home = (m.start.x_mm, m.start.y_mm);
         if dist_mm((pose.x_mm, pose.y_mm), home) <= 100 {
-            m.phase = Phase::Done;
+            m.phase = Phase::Align;
         } else if m.home_tries < HOME_TRIES {
             m.home_tries += 1;
             m.queue.reset((pose.x_mm, pose.y_mm));

@@ -1,17 +1,20 @@
 //! The lidar event: bytes into frames, hits into the ring (a
 //! `heapless::HistoryBuf` of the last [`super::RING`] points, each tagged
-//! with whether the map explains it), revolutions into the evidence map.
+//! with whether the map explains it), revolutions matched against the map
+//! ([`super::locate`]) and then into the evidence map.
 
 use super::{MapMode, Mission};
+use crate::localize::ScanMatcher;
 use crate::nav::geometry::explained;
 use crate::robot::lidar::LidarProtocol;
 use crate::robot::lidar_map::{beams, EvidenceMap};
 
 impl Mission {
     /// The lidar event's body (see [`Mission::feed_lidar`]).
-    pub(super) fn feed_bytes<const EV: usize>(
+    pub(super) fn feed_bytes<const EV: usize, const MW: usize>(
         &mut self,
         map: &mut EvidenceMap<EV>,
+        matcher: &mut ScanMatcher<MW>,
         bytes: &[u8],
         now_us: u64,
     ) {
@@ -30,7 +33,8 @@ impl Mission {
             });
             if self.lidar.asm.push(&frame, pose, &mut self.lidar.scan) {
                 self.counters.scans += 1;
-                if self.cfg.mode == MapMode::Unknown || self.cfg.map_known_updates {
+                let mappable = self.locate(map, matcher, now_us);
+                if mappable && (self.cfg.mode == MapMode::Unknown || self.cfg.map_known_updates) {
                     map.integrate_scan(&self.lidar.scan, &self.cfg.mount);
                     self.map_dirty = true;
                     self.fine_stale = true;

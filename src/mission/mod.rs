@@ -78,13 +78,13 @@
 //! `cover`, `edge`, `home`, `recover` and `avoid` its parts; `lidar` the
 //! lidar event.
 
-/// An impl for buffers of every size: the header with its six const
+/// An impl for buffers of every size: the header with its seven const
 /// generics written once. `sized_impl!([Trait for Type] { items })`, or
 /// `sized_impl!([] { items })` for the planning side's methods on
 /// [`Exec`] over [`Parts`].
 macro_rules! sized_impl {
     ([] $($body:tt)*) => {
-        sized_impl!([$crate::mission::Exec<'_, '_, $crate::mission::Parts<'_, N, NW, OPEN, LCAP, PCAP, EV>>] $($body)*);
+        sized_impl!([$crate::mission::Exec<'_, '_, $crate::mission::Parts<'_, N, NW, OPEN, LCAP, PCAP, EV, MW>>] $($body)*);
     };
     ([$($head:tt)*] { $($body:tt)* }) => {
         impl<
@@ -94,6 +94,7 @@ macro_rules! sized_impl {
                 const LCAP: usize,
                 const PCAP: usize,
                 const EV: usize,
+                const MW: usize,
             > $($head)*
         {
             $($body)*
@@ -108,6 +109,7 @@ mod edge;
 mod handoff;
 mod home;
 mod lidar;
+mod locate;
 mod plan;
 mod recover;
 
@@ -123,6 +125,7 @@ pub use events::{Capacity, Event, EventKind, EVENTS};
 pub use handoff::HANDOFF;
 pub use parts::{MissionParts, Parts};
 
+use crate::localize::Fusion;
 use crate::nav::edge::EdgePass;
 use crate::nav::follow::{SubPath, SubPaths};
 use crate::nav::geometry::in_corridor;
@@ -138,13 +141,22 @@ use heapless::HistoryBuf;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Phase {
     Idle,
-    SelfTestScan { since_us: u64 },
-    SelfTestWheels { until_us: u64, enc0: (u16, u16) },
-    SelfTestSettle { until_us: u64 },
+    SelfTestScan {
+        since_us: u64,
+    },
+    SelfTestWheels {
+        until_us: u64,
+        enc0: (u16, u16),
+    },
+    SelfTestSettle {
+        until_us: u64,
+    },
     Cover,
     Edge,
     ReturnSearch,
     Return,
+    /// At the dock: turning in place to the heading it started with.
+    Align,
     Done,
     Failed(Fault),
 }
@@ -230,6 +242,11 @@ pub struct Mission {
     edge_tries: u16,
     started_us: u64,
     counters: Counters,
+    // Localisation.
+    loc: Fusion,
+    start_fixed: bool,
+    relocated: bool,
+    lost_since_us: u64,
 }
 
 /// The executive at work on the caller's buffers `P` (the planning side).
@@ -293,6 +310,10 @@ impl Mission {
             edge_tries: 0,
             started_us: 0,
             counters: Counters::new(),
+            loc: Fusion::new(),
+            start_fixed: false,
+            relocated: false,
+            lost_since_us: 0,
         }
     }
 
@@ -444,6 +465,7 @@ impl Mission {
             | Phase::SelfTestScan { .. }
             | Phase::SelfTestWheels { .. }
             | Phase::SelfTestSettle { .. } => State::SelfTest,
+            _ if self.loc.lost => State::Relocalising,
             _ if self.halted_since.is_some() => State::LidarSilent,
             _ => match self.activity {
                 Activity::Avoid => State::Avoid,
@@ -454,6 +476,7 @@ impl Mission {
                         _ => State::Cover,
                     },
                     Phase::Edge => State::Edge,
+                    Phase::Align => State::Docking,
                     _ => State::Return,
                 },
             },

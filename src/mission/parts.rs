@@ -1,10 +1,11 @@
 //! The big buffers the executive works in, owned by the caller, and the
 //! [`MissionParts`] trait through which the entry points take them, so an
-//! entry point names one type parameter instead of six const generics.
+//! entry point names one type parameter instead of seven const generics.
 
 use super::{Exec, Mission};
 use crate::coverage::Coverage;
 use crate::grid::{Cell, Grid};
+use crate::localize::ScanMatcher;
 use crate::robot::lidar_map::EvidenceMap;
 use crate::robot::odometry::Pose;
 use crate::search::SearchState;
@@ -19,6 +20,7 @@ pub struct Parts<
     const LCAP: usize,
     const PCAP: usize,
     const EV: usize,
+    const MW: usize,
 > {
     /// The coverage planner.
     pub planner: &'a mut Coverage<N, NW, OPEN, LCAP, PCAP>,
@@ -33,6 +35,8 @@ pub struct Parts<
     pub map: &'a mut EvidenceMap<EV>,
     /// Fine path buffer (detours, edge transits, the way home).
     pub path: &'a mut [Cell],
+    /// The scan matcher's points and coarse levels.
+    pub matcher: &'a mut ScanMatcher<MW>,
 }
 
 /// What the entry points of [`Mission`] need of the caller's buffers.
@@ -47,13 +51,13 @@ pub trait MissionParts {
     fn plan(&mut self, m: &mut Mission, now_us: u64);
 }
 
-sized_impl!([MissionParts for Parts<'_, N, NW, OPEN, LCAP, PCAP, EV>] {
+sized_impl!([MissionParts for Parts<'_, N, NW, OPEN, LCAP, PCAP, EV, MW>] {
     fn begin(&mut self, m: &mut Mission, start: Pose) {
         Exec { m, p: self }.begin(start);
     }
 
     fn feed_lidar(&mut self, m: &mut Mission, bytes: &[u8], now_us: u64) {
-        m.feed_bytes(self.map, bytes, now_us);
+        m.feed_bytes(self.map, self.matcher, bytes, now_us);
     }
 
     fn plan(&mut self, m: &mut Mission, now_us: u64) {

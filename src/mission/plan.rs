@@ -1,7 +1,7 @@
 //! The planning step (10 Hz): the hand-off replayed, the battery, the
 //! guard's hold, and the one dispatch on the phase; the self-test.
 
-use super::{seg_to, Activity, Fault, Mission, Phase};
+use super::{seg_to, Activity, Fault, MapMode, Mission, Phase};
 use crate::nav::cspace;
 use crate::nav::geometry::segment_clear;
 use crate::robot::odometry::Pose;
@@ -18,6 +18,12 @@ sized_impl!([] {
         m.drive.map_h_mm = self.p.map.height() as i64 * self.p.map.res_mm() as i64;
         m.start = start;
         self.p.planner.set_kind(cfg.kind);
+        if cfg.mode == MapMode::Known {
+            self.p.map.freeze_prior();
+        }
+        if cfg.localize {
+            self.p.matcher.pyramid.build(self.p.map, cfg.mode == MapMode::Known);
+        }
         let r = (cfg.radius_mm + cfg.margin_mm) as u32;
         let ok = cspace::size_coarse(self.p.map, self.p.coarse, cfg.plan_cell_mm).is_ok()
             && cspace::update_coarse(self.p.map, self.p.coarse, cfg.plan_cell_mm, r, false).is_ok();
@@ -46,6 +52,12 @@ sized_impl!([] {
             return;
         }
         self.guard_hold(now_us, pose);
+        if core::mem::take(&mut self.m.relocated) && self.m.activity == Activity::Follow {
+            // Relocalised after a kidnap: the leg ahead starts elsewhere.
+            if matches!(self.m.phase, Phase::Cover | Phase::Edge | Phase::Return | Phase::ReturnSearch) {
+                self.replan_leg(now_us, pose);
+            }
+        }
         match self.m.phase {
             Phase::SelfTestScan { .. }
             | Phase::SelfTestWheels { .. }
@@ -58,7 +70,7 @@ sized_impl!([] {
                 }
             }
             Phase::ReturnSearch | Phase::Return => self.return_step(now_us, pose),
-            Phase::Idle | Phase::Done | Phase::Failed(_) => {}
+            Phase::Idle | Phase::Align | Phase::Done | Phase::Failed(_) => {}
         }
     }
 

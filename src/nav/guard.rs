@@ -28,6 +28,11 @@ pub struct GuardParams {
     /// explain (they may move: a person walks 100 mm while the lidar comes
     /// round), mm.
     pub moving_margin_mm: i32,
+    /// How much narrower the corridor is for points the map explains
+    /// (walls), mm: their range noise, when the pose is corrected against
+    /// that map. A wall the plan passes 10 mm away returns points up to
+    /// 2 σ nearer; without the slack they stopped every move along a wall.
+    pub mapped_slack_mm: i32,
 }
 
 /// Free distance (mm) along the robot's forward (`forward`) or backward
@@ -45,11 +50,26 @@ pub fn free_distance_mm(
     radius_mm: i32,
     forward: bool,
 ) -> i32 {
+    free_distance_slack_mm(points, radius_mm, 0, forward)
+}
+
+/// [`free_distance_mm`] for points with range noise: only points more
+/// than `slack_mm` inside the corridor's edge count (a wall passed
+/// alongside returns noisy points up to 2 σ nearer than it is), but the
+/// distance to each is measured to the full-width body, so a corner
+/// ahead still stops the robot where the body would touch it.
+pub fn free_distance_slack_mm(
+    points: impl Iterator<Item = (i32, i32)>,
+    radius_mm: i32,
+    slack_mm: i32,
+    forward: bool,
+) -> i32 {
     let r = radius_mm as i64;
+    let edge = (radius_mm - slack_mm.max(0)) as i64;
     let (mut first, mut second) = (i32::MAX as i64, i32::MAX as i64);
     for (x, y) in points {
         let (x, y) = (if forward { x as i64 } else { -(x as i64) }, y as i64);
-        if x <= 0 || y.abs() >= r {
+        if x <= 0 || y.abs() >= edge {
             continue;
         }
         let half_chord = isqrt_u64((r * r - y * y) as u64) as i64;

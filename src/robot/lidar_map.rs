@@ -215,6 +215,13 @@ impl<const N: usize> EvidenceMap<N> {
         n
     }
 
+    /// A hit within one cell of a prior wall is that wall seen with range
+    /// noise (known mode): it adds nothing, so noisy returns do not thicken
+    /// the prior's walls into the free cells before them.
+    fn near_prior_wall(&self, cx: i32, cy: i32) -> bool {
+        (-1..=1).any(|dy| (-1..=1).any(|dx| self.evidence(cx + dx, cy + dy) == PRIOR_WALL))
+    }
+
     /// True for a wall the scan matcher aligns to: a prior wall when
     /// `prior_only` (known mode), any occupied cell otherwise.
     pub fn is_wall(&self, cx: i32, cy: i32, prior_only: bool) -> bool {
@@ -271,7 +278,9 @@ impl<const N: usize> EvidenceMap<N> {
             }
         }
         if hit {
-            self.add(ex, ey, HIT);
+            if !self.near_prior_wall(ex, ey) {
+                self.add(ex, ey, HIT);
+            }
         } else {
             self.add(ex, ey, MISS);
         }

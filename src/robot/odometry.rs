@@ -111,6 +111,15 @@ impl Odometry {
         self.rem_y = 0;
     }
 
+    /// Moves the pose by a correction (the scan matcher's): Δx, Δy mm and
+    /// Δθ µrad, added to the origin so the wheel integration goes on
+    /// undisturbed from the corrected pose.
+    pub fn correct(&mut self, dx_mm: i32, dy_mm: i32, dtheta_urad: i64) {
+        self.origin_x_nm += dx_mm as i64 * 1_000_000;
+        self.origin_y_nm += dy_mm as i64 * 1_000_000;
+        self.origin_theta_urad += dtheta_urad;
+    }
+
     /// Heading from the total tick difference, µrad (not wrapped).
     fn raw_theta_urad(&self) -> i64 {
         let d = (self.total_right - self.total_left) as i128;

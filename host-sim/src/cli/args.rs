@@ -10,6 +10,7 @@ use robovac::{Algo, Cell};
 pub enum NoiseArg {
     None,
     Realistic,
+    Harsh,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -99,6 +100,7 @@ impl From<NoiseArg> for host_sim::sim::robot::Noise {
         match n {
             NoiseArg::None => host_sim::sim::robot::Noise::None,
             NoiseArg::Realistic => host_sim::sim::robot::Noise::Realistic,
+            NoiseArg::Harsh => host_sim::sim::robot::Noise::Harsh,
         }
     }
 }

@@ -28,6 +28,9 @@ fn cmd_demo() -> Result<(), String> {
         start: None,
         kind: robovac::coverage::PlannerKind::BOha,
         lidar_gap_s: None,
+        start_heading: None,
+        kidnap_s: None,
+        localize: true,
         firmware_order: false,
     };
     println!(

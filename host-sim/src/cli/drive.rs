@@ -74,6 +74,7 @@ pub fn run(a: Args) -> Result<(), String> {
     let noise = match noise {
         NoiseArg::None => host_sim::sim::robot::Noise::None,
         NoiseArg::Realistic => host_sim::sim::robot::Noise::Realistic,
+        NoiseArg::Harsh => host_sim::sim::robot::Noise::Harsh,
     };
     let t0 = Instant::now();
     let (rep, trace) = drive(DriveOptions {

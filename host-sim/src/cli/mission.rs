@@ -45,6 +45,13 @@ pub struct Args {
     /// the background) instead of the host's lock-step.
     #[arg(long)]
     pub firmware_order: bool,
+    /// Lift the robot at this sim time (seconds) and put it down 1–3 m
+    /// away at another heading.
+    #[arg(long)]
+    pub kidnap: Option<f64>,
+    /// Odometry alone: no scan matching (for comparison).
+    #[arg(long)]
+    pub no_localize: bool,
 }
 
 /// Runs the command.
@@ -63,7 +70,12 @@ pub fn run(a: Args) -> Result<(), String> {
         svg,
         events,
         firmware_order,
+        kidnap,
+        no_localize,
     } = a;
+    if kidnap.is_some_and(|t| !(t.is_finite() && t >= 0.0)) {
+        return Err("--kidnap must be a time in seconds, 0 or more".into());
+    }
     let kind = host_sim::run::plan::planner_by_name(&planner)
         .ok_or_else(|| format!("unknown planner {planner:?}"))?;
     if !(max_time.is_finite() && max_time > 0.0) {
@@ -81,6 +93,9 @@ pub fn run(a: Args) -> Result<(), String> {
         start,
         kind,
         lidar_gap_s: lidar_gap,
+        start_heading: None,
+        kidnap_s: kidnap,
+        localize: !no_localize,
         firmware_order,
     };
     cmd_mission(

@@ -11,7 +11,7 @@ use std::path::Path;
 use robovac::{Cell, Grid};
 
 /// A loaded map: free/blocked cells, row-major, y from the top.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct MapData {
     /// Width in cells.
     pub width: u32,
@@ -21,6 +21,25 @@ pub struct MapData {
     pub blocked: Vec<bool>,
     /// Cell side in metres, when known.
     pub cell_m: Option<f64>,
+    /// The dock: x, y (m) and the heading a docked robot leaves with (rad),
+    /// when the map gives one.
+    pub dock: Option<(f64, f64, f64)>,
+    /// Rooms, no-go areas, virtual walls, paths (ValetudoMap).
+    pub extras: Option<Box<MapExtras>>,
+}
+
+/// What a ValetudoMap adds to the floor plan (metres, in the map's world
+/// frame: x east, y north, origin at the bottom-left corner).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MapExtras {
+    /// Rooms: id, name (when given), cells (column, row from the top).
+    pub rooms: Vec<(u32, Option<String>, Vec<(u32, u32)>)>,
+    /// No-go areas (polygons).
+    pub no_go: Vec<Vec<(f64, f64)>>,
+    /// Virtual walls (segments).
+    pub virtual_walls: Vec<((f64, f64), (f64, f64))>,
+    /// The vendor robot's own paths (polylines).
+    pub paths: Vec<Vec<(f64, f64)>>,
 }
 
 /// A map that could not be loaded.
@@ -53,7 +72,8 @@ pub struct LoadOptions {
 pub const DEFAULT_PNG_RESOLUTION_M: f64 = 0.05;
 
 /// Loads any supported map, by file extension: `.map` (MovingAI), `.yaml`
-/// / `.yml` (ROS map_server), `.png`, `.pgm` (ROS thresholds, defaults),
+/// / `.yml` (ROS map_server), `.json` (ValetudoMap), `.png`, `.pgm` (ROS
+/// thresholds, defaults),
 /// anything else as ASCII (`#` blocked, `.` free).
 pub fn load_map(path: &Path, opts: LoadOptions) -> Result<MapData, MapError> {
     let ext = path
@@ -72,6 +92,7 @@ pub fn load_map(path: &Path, opts: LoadOptions) -> Result<MapData, MapError> {
     };
     let mut map = match ext.as_str() {
         "map" => parse_movingai(path, &bytes)?,
+        "json" => super::valetudo::parse_valetudo(path, &bytes, opts.cell_m)?,
         "yaml" | "yml" => load_ros_yaml(path, &bytes, opts)?,
         "png" => {
             let res = opts.png_resolution_m.unwrap_or(DEFAULT_PNG_RESOLUTION_M);
@@ -192,6 +213,7 @@ pub fn parse_ascii(path: &Path, bytes: &[u8]) -> Result<MapData, MapError> {
         height: rows.len() as u32,
         blocked,
         cell_m: None,
+        ..Default::default()
     })
 }
 
@@ -266,6 +288,7 @@ pub fn parse_movingai(path: &Path, bytes: &[u8]) -> Result<MapData, MapError> {
         height: h,
         blocked,
         cell_m: None,
+        ..Default::default()
     })
 }
 
@@ -526,6 +549,7 @@ pub fn resample(
             height: img.height,
             blocked: img.free.iter().map(|f| !f).collect(),
             cell_m: Some(res_m),
+            ..Default::default()
         });
     };
     let k = (cell / res_m).round();
@@ -565,6 +589,7 @@ pub fn resample(
         height: h,
         blocked,
         cell_m: Some(k as f64 * res_m),
+        ..Default::default()
     })
 }
 

@@ -1,5 +1,7 @@
-//! Files in: map loaders (MovingAI, ROS YAML + PGM, PNG, ASCII) and
+//! Files in: map loaders (MovingAI, ROS YAML + PGM, PNG, ASCII,
+//! ValetudoMap JSON) and
 //! MovingAI scenarios. Uses the core only.
 
 pub mod maps;
 pub mod scen;
+pub mod valetudo;

@@ -229,6 +229,7 @@ pub fn table2_instance(
         height,
         blocked,
         cell_m: None,
+        ..Default::default()
     };
     let start = map.first_free()?;
     Some((map, start))

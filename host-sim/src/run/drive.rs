@@ -59,6 +59,7 @@ pub fn planner_map(world: &World, radius_m: f64) -> MapData {
         height: h,
         blocked,
         cell_m: Some(PLAN_CELL_M),
+        ..Default::default()
     }
 }
 
@@ -515,6 +516,7 @@ pub fn step_response(noise: Noise, target_m_s: f64, seed: u64) -> (f64, f64, f64
         height: 40,
         blocked: vec![false; 400 * 40],
         cell_m: None,
+        ..Default::default()
     };
     let world = World::new(open, 0.1);
     let mut sim = Sim::new(cfg.clone(), world, (1.0, 2.0, 0.0), noise, seed);

@@ -46,6 +46,13 @@ pub struct MissionOptions {
     pub kind: PlannerKind,
     /// Silence the lidar between these sim times (s), to exercise the fault.
     pub lidar_gap_s: Option<(f64, f64)>,
+    /// The dock's heading (the robot's at the start), rad; default: the
+    /// map's dock angle, or east.
+    pub start_heading: Option<f64>,
+    /// Lift the robot at this sim time (s) and put it down 1–3 m away.
+    pub kidnap_s: Option<f64>,
+    /// Scan matching on (off: odometry alone, for comparison).
+    pub localize: bool,
     /// Call the executive as the firmware does: `control` every period and
     /// then `plan` when due, so a plan's decision reaches the motors one
     /// period later. Off: the lock-step `tick` (plan between sensing and
@@ -98,6 +105,30 @@ pub struct MissionReport {
     pub counters: robovac::mission::Counters,
     /// Odometry error at the end, mm.
     pub odometry_error_mm: f64,
+    /// The estimated pose against the truth, every control period from
+    /// the end of the self-test (whose first revolution relocalises the
+    /// given dock pose): RMS position error, mm.
+    pub pose_error_rms_mm: f64,
+    /// Largest position error, mm.
+    pub pose_error_max_mm: f64,
+    /// RMS heading error, mrad.
+    pub heading_error_rms_mrad: f64,
+    /// Largest heading error, mrad.
+    pub heading_error_max_mrad: f64,
+    /// Back at the true dock within 50 mm and 3° (52 mrad) of the pose it
+    /// left from.
+    pub docked: bool,
+    /// The true final position's distance from the true dock, mm.
+    pub dock_error_mm: f64,
+    /// The true final heading's difference from the start's, mrad.
+    pub dock_heading_error_mrad: f64,
+    /// Localisation's counters.
+    #[serde(serialize_with = "loc_json")]
+    pub localization: robovac::localize::LocStats,
+    /// Sim time the robot spent lost (braked, relocalising), s.
+    pub lost_time_s: f64,
+    #[serde(skip)]
+    err_sq: (f64, f64, u64),
     /// Simulated time spent in each state, s.
     pub state_time_s: std::collections::BTreeMap<String, f64>,
 }
@@ -117,6 +148,10 @@ pub struct MissionTrace {
     pub start: (f64, f64),
     /// The executive's events, in order.
     pub events: Vec<robovac::mission::Event>,
+    /// The estimated positions (every 100 ms), m.
+    pub estimate: Vec<(f64, f64)>,
+    /// The kidnap: when (s) and where the robot was put down (m, m, rad).
+    pub kidnap: Option<(f64, (f64, f64, f64))>,
 }
 
 /// A free spot for the dock near the map's centre (the body plus 5 cm fits).
@@ -150,6 +185,7 @@ pub struct HostParts {
     /// The evidence map.
     pub map: Box<EvidenceMap<HOST_EVIDENCE>>,
     path: Vec<Cell>,
+    matcher: Box<crate::capacity::HostMatcher>,
 }
 
 impl HostParts {
@@ -162,6 +198,7 @@ impl HostParts {
             fine: new_grid(),
             map: Box::new(EvidenceMap::new()),
             path: vec![Cell::default(); 1 << 18],
+            matcher: Box::new(crate::capacity::HostMatcher::new()),
         }
     }
 }
@@ -176,8 +213,9 @@ pub fn run_mission(
     let cfg = RobotConfig::default();
     let r = cfg.diameter_m / 2.0;
     let mut world = World::new(opts.map.clone(), opts.cell_m);
-    let start = place_dock(opts, &mut world, r)?;
-    let pose = (start.0, start.1, 0.0);
+    let (start, dock_heading) = place_dock(opts, &mut world, r)?;
+    let heading = opts.start_heading.unwrap_or(dock_heading);
+    let pose = (start.0, start.1, heading);
     let mut sim = Sim::new(cfg.clone(), world, pose, opts.noise, opts.seed);
     let mut floor = Floor::new(&sim.world, start, r, 0.05);
     let mut hp = HostParts::new(opts.kind);
@@ -190,13 +228,9 @@ pub fn run_mission(
         fine: &mut hp.fine,
         map: &mut hp.map,
         path: &mut hp.path,
+        matcher: &mut hp.matcher,
     };
-    let dock = Pose {
-        x_mm: (start.0 * 1000.0).round() as i32,
-        y_mm: (start.1 * 1000.0).round() as i32,
-        theta_mrad: 0,
-    };
-    mission.begin(&mut parts, dock);
+    mission.begin(&mut parts, given_dock(opts, pose));
     debug_grid(&parts, false);
     let mut rep = MissionReport {
         min_clearance_m: f64::INFINITY,
@@ -211,7 +245,12 @@ pub fn run_mission(
     let mut next_progress = 10_000_000u64;
     let trace_on = std::env::var_os("ROBOVAC_DEBUG_TRACE").is_some();
     let mut seen_collisions = 0usize;
+    let mut kidnap_us = opts.kidnap_s.map(|t| (t * 1e6) as u64);
     while sim.t_us < max_us && !mission.finished() {
+        if kidnap_us.is_some_and(|t| sim.t_us >= t) {
+            kidnap_us = None;
+            trace.kidnap = sim.kidnap().map(|p| (sim.t_us as f64 * 1e-6, p));
+        }
         control_period(&mut sim, &mut mission, &mut parts, opts);
         while let Some(e) = mission.pop_event() {
             trace.events.push(e);
@@ -231,7 +270,7 @@ pub fn run_mission(
     }
     progress(sim.t_us as f64 * 1e-6, mission.state(), floor.coverage());
     debug_grid(&parts, true);
-    finish_report(&mut rep, &mission, &sim, &floor, start, &cfg);
+    finish_report(&mut rep, &mission, &sim, &floor, pose, &cfg);
     trace.truth = std::mem::take(&mut sim.trajectory);
     trace.people = sim.world.people.iter().map(|p| p.track.clone()).collect();
     trace.collisions = sim
@@ -252,14 +291,45 @@ pub(crate) type HostMissionParts<'a> = Parts<
     { crate::capacity::HOST_LCAP },
     { crate::capacity::HOST_PCAP },
     HOST_EVIDENCE,
+    { crate::capacity::HOST_MATCH_WORDS },
 >;
+
+/// The dock pose the executive is given: the truth, or in known mode
+/// under noise the truth off by up to ±0.2 m and ±15° (a person put the
+/// robot down; the executive relocalises within that window), drawn from
+/// the seed.
+fn given_dock(opts: &MissionOptions, (x, y, th): (f64, f64, f64)) -> Pose {
+    let (mut dx, mut dy, mut dt) = (0.0, 0.0, 0.0);
+    if opts.noise.noisy() && opts.mode == MapMode::Known {
+        let mut rng = robovac::grid::maps::SplitMix64::new(opts.seed ^ 0xD0C);
+        dx = crate::sim::robot::in_range(&mut rng, (-0.2, 0.2));
+        dy = crate::sim::robot::in_range(&mut rng, (-0.2, 0.2));
+        dt = crate::sim::robot::in_range(&mut rng, (-15.0, 15.0)).to_radians();
+    }
+    let t =
+        (th + dt + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
+    Pose {
+        x_mm: ((x + dx) * 1000.0).round() as i32,
+        y_mm: ((y + dy) * 1000.0).round() as i32,
+        theta_mrad: (t * 1000.0).round() as i32,
+    }
+}
 
 /// The dock: the given start or a free spot near the centre, clear of
 /// walls; people are added and none starts on it.
-fn place_dock(opts: &MissionOptions, world: &mut World, r: f64) -> Result<(f64, f64), String> {
-    let start = match opts.start {
-        Some(s) => s,
-        None => default_start(world, r).ok_or("no free spot for the robot on this map")?,
+fn place_dock(
+    opts: &MissionOptions,
+    world: &mut World,
+    r: f64,
+) -> Result<((f64, f64), f64), String> {
+    let (start, heading) = match (opts.start, opts.map.dock) {
+        (Some(s), _) => (s, 0.0),
+        (None, Some(c)) => docked_pose(world, c, r)
+            .ok_or("no place for the robot in front of the map's charger")?,
+        (None, None) => (
+            default_start(world, r).ok_or("no free spot for the robot on this map")?,
+            0.0,
+        ),
     };
     if world.disc_hits_wall(start.0, start.1, r + 0.01) {
         return Err(format!(
@@ -274,7 +344,36 @@ fn place_dock(opts: &MissionOptions, world: &mut World, r: f64) -> Result<(f64, 
             p.next = (p.next + 1) % p.waypoints.len();
         }
     }
-    Ok(start)
+    Ok((start, heading))
+}
+
+/// Docked at a charger (x, y m, its angle rad): the nearest place to it
+/// where the body fits with 2 cm to spare, facing away from the charger
+/// (the charger's own angle when the robot fits on it).
+pub fn docked_pose(
+    world: &World,
+    (cx, cy, angle): (f64, f64, f64),
+    r: f64,
+) -> Option<((f64, f64), f64)> {
+    let step = 0.01;
+    let mut best: Option<(f64, (f64, f64))> = None;
+    for iy in -100..=100 {
+        for ix in -100..=100 {
+            let (x, y) = (cx + ix as f64 * step, cy + iy as f64 * step);
+            let d = (x - cx).hypot(y - cy);
+            if best.is_some_and(|(b, _)| d >= b) || world.disc_hits_wall(x, y, r + 0.02) {
+                continue;
+            }
+            best = Some((d, (x, y)));
+        }
+    }
+    let (d, (x, y)) = best?;
+    let heading = if d < 0.01 {
+        angle
+    } else {
+        (y - cy).atan2(x - cx)
+    };
+    Some(((x, y), heading))
 }
 
 /// The executive's configuration for this robot. Its margins follow its
@@ -283,8 +382,9 @@ fn place_dock(opts: &MissionOptions, world: &mut World, r: f64) -> Result<(f64, 
 fn mission_config(opts: &MissionOptions, cfg: &RobotConfig, r: f64) -> MissionConfig {
     let mut mcfg = MissionConfig::new(opts.mode, cfg.geometry(), cfg.gains, MOUNT);
     mcfg.kind = opts.kind;
+    mcfg.localize = opts.localize;
     mcfg.radius_mm = (r * 1000.0).round() as i32;
-    if opts.noise == Noise::Realistic {
+    if opts.noise.noisy() {
         mcfg = mcfg.with_lidar_noise((cfg.lidar_noise_m * 1000.0).round() as i32);
     }
     mcfg
@@ -351,6 +451,7 @@ fn measure(
     *rep.state_time_s.entry(key).or_insert(0.0) += sim.cfg.control_period_us as f64 * 1e-6;
     let (x, y, _) = sim.pose;
     floor.sweep(x, y);
+    pose_error(sim, mission, rep, trace);
     let wall = sim.world.wall_distance(x, y, 1.0) - r;
     rep.min_wall_clearance_m = rep.min_wall_clearance_m.min(wall);
     let person = sim
@@ -366,21 +467,60 @@ fn measure(
     }
 }
 
+/// The estimate against the truth, accumulated every period.
+fn pose_error(sim: &Sim, mission: &Mission, rep: &mut MissionReport, trace: &mut MissionTrace) {
+    if mission.state() == State::SelfTest {
+        // Measured from the start of cleaning: the self-test's first
+        // revolution relocalises the dock pose a person gave within
+        // ±0.2 m and ±15°.
+        return;
+    }
+    let (x, y, th) = sim.pose;
+    let p = mission.pose();
+    let d = (x * 1000.0 - p.x_mm as f64).hypot(y * 1000.0 - p.y_mm as f64);
+    let e = th * 1000.0 - p.theta_mrad as f64;
+    let e = (e + std::f64::consts::PI * 1000.0).rem_euclid(std::f64::consts::TAU * 1000.0)
+        - std::f64::consts::PI * 1000.0;
+    rep.err_sq.0 += d * d;
+    rep.err_sq.1 += e * e;
+    rep.err_sq.2 += 1;
+    rep.pose_error_max_mm = rep.pose_error_max_mm.max(d);
+    rep.heading_error_max_mrad = rep.heading_error_max_mrad.max(e.abs());
+    if mission.lost() {
+        rep.lost_time_s += sim.cfg.control_period_us as f64 * 1e-6;
+    }
+    if sim.t_us.is_multiple_of(100_000) {
+        trace
+            .estimate
+            .push((p.x_mm as f64 / 1000.0, p.y_mm as f64 / 1000.0));
+    }
+}
+
 /// The report's end-of-mission fields.
 fn finish_report(
     rep: &mut MissionReport,
     mission: &Mission,
     sim: &Sim,
     floor: &Floor,
-    start: (f64, f64),
+    (sx, sy, start_heading): (f64, f64, f64),
     cfg: &RobotConfig,
 ) {
+    let start = (sx, sy);
     let r = cfg.diameter_m / 2.0;
     let state = mission.state();
     let c = mission.counters();
     rep.finished = state == State::Done;
-    let (x, y, _) = sim.pose;
+    let (x, y, th) = sim.pose;
     rep.returned_to_start = (x - start.0).hypot(y - start.1) < 0.15;
+    rep.dock_error_mm = (x - start.0).hypot(y - start.1) * 1000.0;
+    let dh = (th - start_heading + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+        - std::f64::consts::PI;
+    rep.dock_heading_error_mrad = dh.abs() * 1000.0;
+    rep.docked = rep.dock_error_mm <= 50.0 && rep.dock_heading_error_mrad <= 52.4;
+    let n = rep.err_sq.2.max(1) as f64;
+    rep.pose_error_rms_mm = (rep.err_sq.0 / n).sqrt();
+    rep.heading_error_rms_mrad = (rep.err_sq.1 / n).sqrt();
+    rep.localization = mission.loc_stats();
     rep.coverage = floor.coverage();
     rep.distance_m = sim.distance_m;
     let swept = floor.swept_area_m2().max(1e-9);
@@ -464,6 +604,21 @@ fn counters_json<S: serde::Serializer>(
         },
         s,
     )
+}
+
+fn loc_json<S: serde::Serializer>(
+    c: &robovac::localize::LocStats,
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    s.collect_map([
+        ("matches", c.matches),
+        ("accepted", c.accepted),
+        ("partial", c.partial),
+        ("rejected", c.rejected),
+        ("lost", c.lost),
+        ("relocalised", c.relocalised),
+        ("reloc_failed", c.reloc_failed),
+    ])
 }
 
 fn faults_json<S: serde::Serializer>(f: &[(String, u64)], s: S) -> Result<S::Ok, S::Error> {

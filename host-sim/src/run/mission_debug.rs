@@ -71,8 +71,9 @@ pub fn debug_tick(sim: &Sim, mission: &Mission, parts: &HostMissionParts<'_>) {
         );
     }
     eprintln!(
-        "   pose {:?} near {:?}",
+        "   pose {:?} loc {:?} near {:?}",
         mission.pose(),
+        mission.loc_stats(),
         mission.points_near(260).take(4).collect::<Vec<_>>()
     );
     eprintln!(

@@ -93,6 +93,9 @@ pub fn run_suite(
                 start: None,
                 kind: PlannerKind::BOha,
                 lidar_gap_s: None,
+                start_heading: None,
+                kidnap_s: None,
+                localize: true,
                 firmware_order: false,
             };
             run_mission(&opts, |_, _, _| {}).map(|(rep, _, _)| rep)

@@ -22,8 +22,21 @@ pub const MOUNT: robovac::robot::lidar_map::LidarMount =
 pub enum Noise {
     /// Ideal wheels and a noiseless lidar.
     None,
-    /// Wheel slip, motor mismatch, lidar range noise and dropouts.
+    /// Wheel slip, motor mismatch, lidar range noise and dropouts, and the
+    /// systematic odometry errors of every real robot: unequal wheel
+    /// diameters and an effective wheelbase off its nominal value.
     Realistic,
+    /// Realistic, in the home no one tidied: slip bursts at rug edges and
+    /// door thresholds, many lidar dropouts, dark furniture that returns
+    /// nothing, a glass door that returns points from beyond it.
+    Harsh,
+}
+
+impl Noise {
+    /// Realistic or harsh.
+    pub fn noisy(self) -> bool {
+        self != Noise::None
+    }
 }
 
 /// Every robot parameter, in one place. Defaults are modelled on a
@@ -63,6 +76,29 @@ pub struct RobotConfig {
     pub slip_sd: f64,
     /// Left/right motor gain mismatch, under realistic noise.
     pub motor_mismatch: f64,
+    /// Relative difference of the true wheel diameters (left larger when
+    /// positive), drawn per robot in this range with a random sign, under
+    /// realistic and harsh noise. Borenstein & Feng, "Measurement and
+    /// Correction of Systematic Odometry Errors in Mobile Robots", IEEE
+    /// T-RA 12(6), 1996 (UMBmark): unequal wheel diameters (E_d) are one
+    /// of the two dominant systematic errors; the issue's 0.5–1 %.
+    pub wheel_diameter_diff: (f64, f64),
+    /// Relative error of the effective wheelbase (the contact patches'
+    /// spacing, not the nominal one), same source (E_b); 1–2 %.
+    pub wheelbase_error: (f64, f64),
+    /// Harsh: mean travel between slip bursts (rug edges, door
+    /// thresholds), m.
+    pub burst_every_m: f64,
+    /// Harsh: heading jump of a burst, degrees (range).
+    pub burst_turn_deg: (f64, f64),
+    /// Harsh: extra slip of one wheel during a burst's patch (range) and
+    /// how long the patch lasts, s.
+    pub burst_slip: (f64, f64),
+    /// Harsh: how long a slip patch lasts, s.
+    pub burst_s: (f64, f64),
+    /// Harsh: share of lidar samples lost (dark floors, sunlight; the
+    /// LD06's datasheet gives no figure, the issue's 20 %).
+    pub harsh_dropout: f64,
     /// Lidar baud rate (8N1: 10 bits a byte).
     pub baud: u32,
     /// Physics step, µs.
@@ -92,6 +128,13 @@ impl Default for RobotConfig {
             lidar_dropout: 0.02,
             slip_sd: 0.02,
             motor_mismatch: 0.03,
+            wheel_diameter_diff: (0.005, 0.01),
+            wheelbase_error: (0.01, 0.02),
+            burst_every_m: 4.0,
+            burst_turn_deg: (2.0, 5.0),
+            burst_slip: (0.1, 0.3),
+            burst_s: (0.5, 1.5),
+            harsh_dropout: 0.2,
             baud: 230_400,
             physics_step_us: 1000,
             control_period_us: 10_000,
@@ -139,6 +182,22 @@ pub struct Corruption {
     pub drop: f64,
 }
 
+/// A harsh floor's slip burst (a rug edge, a door threshold).
+#[derive(Clone, Copy, Debug, Default)]
+struct Burst {
+    /// Travel at which the next burst starts, m.
+    next_at_m: f64,
+    /// The patch ends, µs.
+    until_us: u64,
+    /// Extra relative slip of each wheel while it lasts.
+    slip: [f64; 2],
+    /// The heading jump still to apply, rad, and its rate, rad/s.
+    turn_left_rad: f64,
+    turn_rate: f64,
+    /// Bursts so far.
+    count: u32,
+}
+
 /// The simulated robot in its world.
 pub struct Sim {
     /// Parameters.
@@ -157,6 +216,11 @@ pub struct Sim {
     ticks: [f64; 2],
     slip: [f64; 2],
     mismatch: [f64; 2],
+    /// Ground speed per wheel rotation speed, from the true diameters.
+    diameter_factor: [f64; 2],
+    /// The effective wheelbase, m.
+    wheelbase_true_m: f64,
+    burst: Burst,
     in_contact: bool,
     /// Every collision.
     pub collisions: Vec<Collision>,
@@ -175,6 +239,27 @@ pub struct Sim {
     pub distance_m: f64,
 }
 
+/// Uniform in [lo, hi).
+pub fn in_range(rng: &mut SplitMix64, (lo, hi): (f64, f64)) -> f64 {
+    lo + (hi - lo) * ((rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64)
+}
+
+/// Uniform in [lo, hi) with a random sign.
+pub fn signed_in(rng: &mut SplitMix64, r: (f64, f64)) -> f64 {
+    let v = in_range(rng, r);
+    if rng.next_u64() & 1 == 0 {
+        v
+    } else {
+        -v
+    }
+}
+
+/// Exponential with mean 1.
+pub fn exponential(rng: &mut SplitMix64) -> f64 {
+    -(1.0 - in_range(rng, (0.0, 1.0))).ln()
+}
+
+/// A standard normal draw (Box–Muller).
 pub fn gauss(rng: &mut SplitMix64) -> f64 {
     // Box–Muller from two uniform draws.
     let u1 = ((rng.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
@@ -192,13 +277,27 @@ impl Sim {
         seed: u64,
     ) -> Self {
         let mut rng = SplitMix64::new(seed);
-        let mismatch = if noise == Noise::Realistic {
+        let mismatch = if noise.noisy() {
             [
                 1.0 + cfg.motor_mismatch * gauss(&mut rng),
                 1.0 + cfg.motor_mismatch * gauss(&mut rng),
             ]
         } else {
             [1.0, 1.0]
+        };
+        let (mut diameter_factor, mut wheelbase_true_m) = ([1.0, 1.0], cfg.wheelbase_m);
+        let mut world = world;
+        if noise.noisy() {
+            let d = signed_in(&mut rng, cfg.wheel_diameter_diff);
+            diameter_factor = [1.0 + d / 2.0, 1.0 - d / 2.0];
+            wheelbase_true_m *= 1.0 + signed_in(&mut rng, cfg.wheelbase_error);
+        }
+        if noise == Noise::Harsh {
+            world.add_materials(&mut rng);
+        }
+        let burst = Burst {
+            next_at_m: cfg.burst_every_m * exponential(&mut rng),
+            ..Burst::default()
         };
         Self {
             cfg,
@@ -213,6 +312,9 @@ impl Sim {
             ticks: [0.0; 2],
             slip: [0.0; 2],
             mismatch,
+            diameter_factor,
+            wheelbase_true_m,
+            burst,
             in_contact: false,
             collisions: Vec::new(),
             lidar_angle_deg: 0.0,
@@ -279,23 +381,41 @@ impl Sim {
         }
     }
 
-    /// Where the ground takes the body this step: the wheels' speeds with
-    /// slip (a slowly varying relative error between wheel and ground),
-    /// integrated along the arc.
+    /// Where the ground takes the body this step: the wheels' speeds
+    /// through their true diameters, with slip (a slowly varying relative
+    /// error between wheel and ground) and, on harsh floors, bursts,
+    /// turned by the true wheelbase and integrated along the arc.
     fn ground_motion(&mut self, dt: f64) -> (f64, f64, f64) {
         let c = &self.cfg;
-        if self.noise == Noise::Realistic && self.t_us.is_multiple_of(100_000) {
+        if self.noise.noisy() && self.t_us.is_multiple_of(100_000) {
             self.slip = [
                 c.slip_sd * gauss(&mut self.rng),
                 c.slip_sd * gauss(&mut self.rng),
             ];
         }
+        if self.noise == Noise::Harsh {
+            self.step_burst();
+        }
+        let b = &self.burst;
+        let extra = if self.t_us < b.until_us {
+            b.slip
+        } else {
+            [0.0; 2]
+        };
         let vg = [
-            self.wheel_v[0] * (1.0 + self.slip[0]),
-            self.wheel_v[1] * (1.0 + self.slip[1]),
+            self.wheel_v[0] * self.diameter_factor[0] * (1.0 + self.slip[0] + extra[0]),
+            self.wheel_v[1] * self.diameter_factor[1] * (1.0 + self.slip[1] + extra[1]),
         ];
         let v = 0.5 * (vg[0] + vg[1]);
-        let w = (vg[1] - vg[0]) / c.wheelbase_m;
+        let mut w = (vg[1] - vg[0]) / self.wheelbase_true_m;
+        if self.burst.turn_left_rad.abs() > 1e-9 {
+            let d = (self.burst.turn_rate * dt).clamp(
+                -self.burst.turn_left_rad.abs(),
+                self.burst.turn_left_rad.abs(),
+            );
+            self.burst.turn_left_rad -= d;
+            w += d / dt;
+        }
         let (x, y, th) = self.pose;
         if w.abs() < 1e-9 {
             (x + v * dt * th.cos(), y + v * dt * th.sin(), th)
@@ -308,6 +428,63 @@ impl Sim {
                 t2,
             )
         }
+    }
+
+    /// Harsh floors: a burst starts every `burst_every_m` of travel on
+    /// average (exponential gaps): a heading jump over 0.2 s and a slip
+    /// patch on one wheel.
+    fn step_burst(&mut self) {
+        if self.distance_m < self.burst.next_at_m {
+            return;
+        }
+        let c = &self.cfg;
+        let rng = &mut self.rng;
+        let turn = signed_in(rng, c.burst_turn_deg).to_radians();
+        let slip = -in_range(rng, c.burst_slip);
+        let wheel = (rng.next_u64() & 1) as usize;
+        let dur = in_range(rng, c.burst_s);
+        let next = c.burst_every_m * exponential(rng);
+        let b = &mut self.burst;
+        b.turn_left_rad = turn;
+        b.turn_rate = turn / 0.2;
+        b.slip = [0.0; 2];
+        if let Some(s) = b.slip.get_mut(wheel) {
+            *s = slip;
+        }
+        b.until_us = self.t_us + (dur * 1e6) as u64;
+        b.next_at_m = self.distance_m + next;
+        b.count += 1;
+    }
+
+    /// Slip bursts so far (harsh floors).
+    pub fn bursts(&self) -> u32 {
+        self.burst.count
+    }
+
+    /// Lifts the robot and puts it down 1–3 m away, at a heading at least
+    /// 45° from its own, on a free spot (the wheels and encoders notice
+    /// nothing). Returns where, or `None` when no spot was found.
+    pub fn kidnap(&mut self) -> Option<(f64, f64, f64)> {
+        let r = self.cfg.diameter_m / 2.0;
+        let (x, y, th) = self.pose;
+        for _ in 0..2000 {
+            let d = in_range(&mut self.rng, (1.0, 3.0));
+            let a = in_range(&mut self.rng, (0.0, std::f64::consts::TAU));
+            let (nx, ny) = (x + d * a.cos(), y + d * a.sin());
+            let turn = signed_in(&mut self.rng, (0.8, 3.1));
+            let free = !self.world.disc_hits_wall(nx, ny, r + 0.1)
+                && self
+                    .world
+                    .people
+                    .iter()
+                    .all(|p| (p.pos.0 - nx).hypot(p.pos.1 - ny) > 1.0);
+            if free {
+                self.pose = (nx, ny, th + turn);
+                self.in_contact = false;
+                return Some(self.pose);
+            }
+        }
+        None
     }
 
     /// Moves the body to (nx, ny, nth) unless a wall or a person blocks
@@ -403,9 +580,14 @@ impl Sim {
             let a = self.pose.2 - bearing.to_radians();
             let (lo, hi) = self.cfg.lidar_range_m;
             let mut d = self.world.ray(self.pose.0, self.pose.1, a, hi);
-            if self.noise == Noise::Realistic {
+            if self.noise.noisy() {
                 let u = (self.rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
-                if u < self.cfg.lidar_dropout {
+                let dropout = if self.noise == Noise::Harsh {
+                    self.cfg.harsh_dropout
+                } else {
+                    self.cfg.lidar_dropout
+                };
+                if u < dropout {
                     d = None;
                 } else if let Some(v) = d.as_mut() {
                     *v += self.cfg.lidar_noise_m * gauss(&mut self.rng);

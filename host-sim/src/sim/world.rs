@@ -50,6 +50,12 @@ pub struct World {
     pub cell_m: f64,
     /// People.
     pub people: Vec<Person>,
+    /// Blocked cells (column, row) of dark furniture: a ray that ends on
+    /// one returns nothing (harsh floors).
+    pub dark: std::collections::HashSet<(i32, i32)>,
+    /// Blocked cells of a glass door or mirror: rays pass through and
+    /// return from beyond (harsh floors). The body still cannot.
+    pub glass: std::collections::HashSet<(i32, i32)>,
 }
 
 impl World {
@@ -59,6 +65,44 @@ impl World {
             map,
             cell_m,
             people: Vec::new(),
+            dark: Default::default(),
+            glass: Default::default(),
+        }
+    }
+
+    /// Harsh floors: three pieces of dark furniture (the blocked cells
+    /// within 0.25 m of three random wall faces) and one glass pane (the
+    /// blocked cells within 0.4 m of a fourth).
+    pub fn add_materials(&mut self, rng: &mut SplitMix64) {
+        let faces: Vec<(i32, i32)> = (0..self.map.height as i32)
+            .flat_map(|r| (0..self.map.width as i32).map(move |c| (c, r)))
+            .filter(|&(c, r)| {
+                self.map.is_blocked(c, r)
+                    && [(1, 0), (-1, 0), (0, 1), (0, -1)]
+                        .iter()
+                        .any(|(dc, dr)| !self.map.is_blocked(c + dc, r + dr))
+            })
+            .collect();
+        if faces.is_empty() {
+            return;
+        }
+        for k in 0..4 {
+            let Some(&(c0, r0)) = faces.get(rng.below(faces.len() as u32) as usize) else {
+                continue;
+            };
+            let reach = if k < 3 { 0.25 } else { 0.4 };
+            let n = (reach / self.cell_m).round() as i32;
+            for r in r0 - n..=r0 + n {
+                for c in c0 - n..=c0 + n {
+                    if self.map.is_blocked(c, r) && c >= 0 && r >= 0 {
+                        if k < 3 {
+                            self.dark.insert((c, r));
+                        } else {
+                            self.glass.insert((c, r));
+                        }
+                    }
+                }
+            }
         }
     }
 
@@ -130,7 +174,11 @@ impl World {
     /// up to `max` (None past it). Walls by an exact grid traversal.
     pub fn ray(&self, x: f64, y: f64, a: f64, max: f64) -> Option<f64> {
         let (dx, dy) = (a.cos(), a.sin());
-        let mut best = self.ray_walls(x, y, dx, dy, max);
+        // A dark wall ends the ray with no echo unless a person is nearer.
+        let (wall, dark) = self
+            .ray_walls(x, y, dx, dy, max)
+            .unwrap_or((f64::INFINITY, false));
+        let mut best = wall.is_finite().then_some(wall);
         for p in &self.people {
             // ray–circle
             let (ox, oy) = (x - p.pos.0, y - p.pos.1);
@@ -144,10 +192,15 @@ impl World {
                 }
             }
         }
+        if dark && best == Some(wall) {
+            return None;
+        }
         best.filter(|d| *d <= max)
     }
 
-    fn ray_walls(&self, x: f64, y: f64, dx: f64, dy: f64, max: f64) -> Option<f64> {
+    /// The first wall along the ray and whether it is dark; glass is
+    /// passed through.
+    fn ray_walls(&self, x: f64, y: f64, dx: f64, dy: f64, max: f64) -> Option<(f64, bool)> {
         let c = self.cell_m;
         let (mut gx, mut gy) = ((x / c).floor() as i64, (y / c).floor() as i64);
         let step_x = if dx > 0.0 { 1 } else { -1 };
@@ -186,10 +239,11 @@ impl World {
         while t <= max {
             let row = self.map.height as i64 - 1 - gy;
             if gx < 0 || row < 0 || gx >= self.map.width as i64 || row >= self.map.height as i64 {
-                return Some(t); // the map's edge is a wall
+                return Some((t, false)); // the map's edge is a wall
             }
-            if self.map.is_blocked(gx as i32, row as i32) {
-                return Some(t);
+            let cell = (gx as i32, row as i32);
+            if self.map.is_blocked(cell.0, cell.1) && !self.glass.contains(&cell) {
+                return Some((t, self.dark.contains(&cell)));
             }
             if t_max_x < t_max_y {
                 t = t_max_x;

@@ -58,6 +58,30 @@ impl<const F: usize> Scan<F> {
         self.frames().iter().map(|(_, f)| f.count as usize).sum()
     }
 
+    /// Moves every frame's pose by a correction (Δx, Δy mm, Δθ mrad), so
+    /// the revolution is mapped where the scan matcher placed it.
+    pub fn shift(&mut self, dx_mm: i32, dy_mm: i32, dtheta_mrad: i32) {
+        let n = self.len;
+        for (pose, _) in self.frames.iter_mut().take(n) {
+            pose.x_mm = pose.x_mm.saturating_add(dx_mm);
+            pose.y_mm = pose.y_mm.saturating_add(dy_mm);
+            pose.theta_mrad = pose.theta_mrad.saturating_add(dtheta_mrad);
+        }
+    }
+
+    /// How far the robot moved during the revolution: the largest
+    /// position (mm, Manhattan) and heading (mrad) change from the first
+    /// frame.
+    pub fn motion(&self) -> (i32, i32) {
+        let Some((p0, _)) = self.frames().first() else {
+            return (0, 0);
+        };
+        self.frames().iter().fold((0, 0), |(d, t), (p, _)| {
+            let dd = (p.x_mm - p0.x_mm).abs() + (p.y_mm - p0.y_mm).abs();
+            (d.max(dd), t.max((p.theta_mrad - p0.theta_mrad).abs()))
+        })
+    }
+
     fn clear(&mut self) {
         self.len = 0;
         self.overflowed = 0;

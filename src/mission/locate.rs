@@ -1,0 +1,125 @@
+//! Localisation in the executive ([`crate::localize`]): once per
+//! revolution, before the scan is mapped.
+//!
+//! - **Start (known mode):** the first revolution, taken at a standstill
+//!   on the dock, is matched over a window of ±0.24 m and ±15° around the
+//!   given dock pose (a person put the robot down); the pose found becomes
+//!   the odometry's and the dock's (the robot returns to where it truly
+//!   started).
+//! - **Tracking:** every revolution corrects the odometry as
+//!   [`crate::localize::fusion`] allows, and the scan is then mapped at
+//!   the corrected poses (unknown mode maps in the corrected frame).
+//! - **Lost:** control brakes ([`super::State::Relocalising`]); every
+//!   revolution taken at a standstill is matched over the whole map until
+//!   one is accepted; then the leg ahead is planned again from where the
+//!   robot is. No scan is mapped while lost. Lost for `lost_timeout_us`:
+//!   [`super::Fault::Lost`].
+//! - **Unknown mode** rebuilds the coarse levels every
+//!   [`REBUILD_EVERY`] revolutions (the fine level reads the map live).
+
+use super::events::EventKind;
+use super::{Activity, MapMode, Mission, Phase};
+use crate::localize::fusion::Correction;
+use crate::localize::{PoseU, ScanMatcher};
+use crate::robot::lidar_map::EvidenceMap;
+
+/// Revolutions between coarse-level rebuilds in unknown mode.
+pub const REBUILD_EVERY: u32 = 10;
+/// A revolution is taken at a standstill when the robot moved less than
+/// this (mm, and mrad) during it.
+const STILL: (i32, i32) = (5, 10);
+
+impl Mission {
+    /// Matches the revolution just completed; returns whether it may be
+    /// mapped.
+    pub(super) fn locate<const EV: usize, const MW: usize>(
+        &mut self,
+        map: &EvidenceMap<EV>,
+        mt: &mut ScanMatcher<MW>,
+        now_us: u64,
+    ) -> bool {
+        if !self.cfg.localize {
+            return true;
+        }
+        let prior_only = self.cfg.mode == MapMode::Known;
+        if !prior_only && self.counters.scans % REBUILD_EVERY == 1 {
+            mt.pyramid.build(map, false);
+            self.loc.stats.rebuilds += 1;
+        }
+        mt.points.load(&self.lidar.scan, &self.cfg.mount);
+        let (moved, turned) = self.lidar.scan.motion();
+        let still = moved <= STILL.0 && turned <= STILL.1;
+        if prior_only && !self.start_fixed && matches!(self.phase, Phase::SelfTestScan { .. }) {
+            if still {
+                self.start_fixed = true;
+                if let Ok(p) = self.loc.relocalise(mt, map, true, false) {
+                    self.jump_to(p, now_us);
+                    self.start = self.drive.odom.pose();
+                }
+            }
+            return true;
+        }
+        if self.loc.lost {
+            if still {
+                if let Ok(p) = self.loc.relocalise(mt, map, prior_only, true) {
+                    self.jump_to(p, now_us);
+                    self.relocated = true;
+                    self.activity = Activity::Follow;
+                }
+            }
+            return false;
+        }
+        match self.loc.track(mt, map, prior_only) {
+            Ok(c) => {
+                self.apply(c);
+                true
+            }
+            Err(_) if self.loc.lost => {
+                self.lost_since_us = now_us;
+                self.events.push(now_us, EventKind::Lost);
+                false
+            }
+            Err(_) => true,
+        }
+    }
+
+    /// Applies a tracking correction to the odometry and to the scan about
+    /// to be mapped.
+    fn apply(&mut self, c: Correction) {
+        let (dx, dy, dt) = c;
+        self.drive.odom.correct(dx, dy, dt);
+        let dt_mrad = ((dt + dt.signum() * 500) / 1000) as i32;
+        self.lidar.scan.shift(dx, dy, dt_mrad);
+    }
+
+    /// Sets the odometry to a relocalised pose and reports it.
+    fn jump_to(&mut self, p: PoseU, now_us: u64) {
+        let (x, y, t) = self.drive.odom.pose_fine();
+        let (dx, dy) = (
+            p.x_mm - (x / 1_000_000) as i32,
+            p.y_mm - (y / 1_000_000) as i32,
+        );
+        let dt = crate::localize::correlative::wrap_urad(p.theta_urad - t);
+        self.drive.odom.correct(dx, dy, dt);
+        let now = self.drive.odom.pose();
+        self.events.push(
+            now_us,
+            EventKind::Relocalised {
+                x_mm: now.x_mm,
+                y_mm: now.y_mm,
+                theta_mrad: now.theta_mrad,
+                moved_mm: dx.abs() + dy.abs(),
+            },
+        );
+    }
+
+    /// Localisation's counters.
+    pub fn loc_stats(&self) -> crate::localize::LocStats {
+        self.loc.stats
+    }
+
+    /// True while lost (braked, relocalising).
+    pub fn lost(&self) -> bool {
+        self.loc.lost
+    }
+}
