@@ -22,14 +22,15 @@
 #![cfg_attr(target_os = "none", no_main)]
 
 #[cfg(target_os = "none")]
+#[path = "emu_common/mod.rs"]
+mod common;
+
+#[cfg(target_os = "none")]
 // cortex-m-rt turns each `static mut` of the entry point into an argument.
 #[allow(clippy::too_many_arguments)]
 mod emu {
-    use core::sync::atomic::{AtomicU32, Ordering};
-
-    use cortex_m::peripheral::syst::SystClkSource;
-    use cortex_m::peripheral::SYST;
-    use cortex_m_rt::{entry, exception, ExceptionFrame};
+    use super::common::{self, exit, fail, Meter};
+    use cortex_m_rt::entry;
     use cortex_m_semihosting::debug;
     use defmt_semihosting as _;
     // Links the device's interrupt vector table; nothing touches RCC.
@@ -56,88 +57,6 @@ mod emu {
     /// Table 1 instances run on the target (the same generator and seed as
     /// `host-sim bench table1 --seed 1`).
     const INSTANCES: u32 = 20;
-
-    static WRAPS: AtomicU32 = AtomicU32::new(0);
-
-    #[exception]
-    fn SysTick() {
-        WRAPS.fetch_add(1, Ordering::Relaxed);
-    }
-
-    #[exception]
-    unsafe fn HardFault(_ef: &ExceptionFrame) -> ! {
-        defmt::error!("hard fault");
-        exit(debug::EXIT_FAILURE)
-    }
-
-    #[panic_handler]
-    fn panic(info: &core::panic::PanicInfo) -> ! {
-        defmt::error!("panic: {}", defmt::Display2Format(info));
-        exit(debug::EXIT_FAILURE)
-    }
-
-    /// Ends the emulation with a status (QEMU exits with 0 or 1).
-    fn exit(status: debug::ExitStatus) -> ! {
-        debug::exit(status);
-        loop {
-            cortex_m::asm::wfi();
-        }
-    }
-
-    fn ticks() -> u64 {
-        loop {
-            let w1 = WRAPS.load(Ordering::Acquire);
-            let v = SYST::get_current();
-            let w2 = WRAPS.load(Ordering::Acquire);
-            if w1 == w2 {
-                return ((w1 as u64) << 24) + (0x00FF_FFFF - v as u64);
-            }
-        }
-    }
-
-    /// Runs `n` iterations of a two-instruction loop.
-    fn known_loop(n: u32) {
-        if n == 0 {
-            return;
-        }
-        // SAFETY: a register-only countdown loop; touches no memory.
-        unsafe {
-            core::arch::asm!(
-                "2:",
-                "subs {n}, {n}, #1",
-                "bne 2b",
-                n = inout(reg) n => _,
-                options(nomem, nostack),
-            );
-        }
-    }
-
-    /// Instructions per 1000 ticks, calibrated against the known loop.
-    fn calibrate() -> u64 {
-        let n = 2_000_000u32;
-        let t0 = ticks();
-        known_loop(n);
-        let t = ticks() - t0;
-        defmt::println!(
-            "calibration: {} SysTick ticks for a {}-instruction loop",
-            t,
-            2 * n
-        );
-        (2 * n as u64 * 1000) / t.max(1)
-    }
-
-    struct Meter {
-        insn_per_kilotick: u64,
-    }
-
-    impl Meter {
-        fn measure<R>(&self, f: impl FnOnce() -> R) -> (R, u64) {
-            let t0 = ticks();
-            let r = f();
-            let t = ticks() - t0;
-            (r, t * self.insn_per_kilotick / 1000)
-        }
-    }
 
     // ---- independent checker: a small Dijkstra of its own -------------
 
@@ -270,11 +189,6 @@ mod emu {
             }
         }
         Some(cost)
-    }
-
-    fn fail(what: &str) -> ! {
-        defmt::error!("CHECK FAILED: {}", what);
-        exit(debug::EXIT_FAILURE)
     }
 
     /// Prunes a path and checks every pruned segment's line of sight.
@@ -538,42 +452,10 @@ mod emu {
         static mut ORACLE: Oracle = Oracle::new();
         static mut PATH: [Cell; PATH_CAP] = [Cell::new(0, 0); PATH_CAP];
 
-        let Some(mut cp) = cortex_m::Peripherals::take() else {
-            fail("core peripherals");
-        };
-        cp.SYST.set_clock_source(SystClkSource::Core);
-        cp.SYST.set_reload(0x00FF_FFFF);
-        cp.SYST.clear_current();
-        cp.SYST.enable_interrupt();
-        cp.SYST.enable_counter();
-
-        // The counter reads 0 until its first reload (which raises no
-        // exception); wait for it so the first reading is not a false wrap.
-        let mut spins = 0u32;
-        while SYST::get_current() == 0 && spins < 1_000_000 {
-            spins += 1;
-        }
-        let kilo = calibrate();
-        defmt::println!(
-            "calibration: {}.{:03} instructions per SysTick tick",
-            kilo / 1000,
-            kilo % 1000
-        );
-        let meter = Meter {
-            insn_per_kilotick: kilo,
-        };
+        let meter = common::start_meter();
         // Point-to-point searches use the coverage planner's own search
         // state: one search state in RAM, not two.
         let search = COV.search_state_mut();
-        // Self-check of the meter: a known 100 000-instruction loop.
-        let ((), k) = meter.measure(|| known_loop(50_000));
-        defmt::println!(
-            "meter check: 100000-instruction loop measured as {} instructions",
-            k
-        );
-        if !(99_000..=101_500).contains(&k) {
-            fail("instruction meter calibration");
-        }
 
         // --- Built-in flat: OHA* with pruning ---------------------------
         if GRID.load_ascii(FLAT_40X20).is_err() {

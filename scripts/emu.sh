@@ -14,3 +14,13 @@ timeout "${EMU_TIMEOUT:-900}" qemu-system-arm \
   -semihosting-config enable=on,target=native \
   -kernel "$elf" \
   | defmt-print -e "$elf"
+# The scan matcher's run: a recorded revolution matched on the target.
+cargo build --release --target thumbv7em-none-eabihf --example emu_localize
+elf=target/thumbv7em-none-eabihf/release/examples/emu_localize
+timeout "${EMU_TIMEOUT:-900}" qemu-system-arm \
+  -machine netduinoplus2 -cpu cortex-m4 \
+  -icount shift=0 \
+  -nographic -monitor none -serial none \
+  -semihosting-config enable=on,target=native \
+  -kernel "$elf" \
+  | defmt-print -e "$elf"

@@ -25,7 +25,7 @@ ALLOWED = {
     "localize": {"math", "grid", "robot"},
     "nav": {"math", "grid", "search", "robot"},
     "mission": {"math", "grid", "search", "verify", "coverage", "robot", "nav", "localize"},
-    "capacity": {"math", "grid", "search", "coverage"},
+    "capacity": {"math", "grid", "search", "coverage", "localize"},
 }
 PATH = re.compile(r"\b(crate|super)::([a-z_0-9]+(?:::[a-z_0-9]+)*)")
 GROUP = re.compile(r"\b(crate|super)::\{([^{}]*)\}")

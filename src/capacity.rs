@@ -113,3 +113,17 @@ pub const BENCH_PCAP: usize = 1024;
 /// The emulated run's coverage planner (maps up to 100 × 50).
 pub type BenchCoverage =
     crate::coverage::Coverage<BENCH_CELLS, BENCH_WORDS, BENCH_OPEN, BENCH_LCAP, BENCH_PCAP>;
+
+/// The firmware's home: 12 × 12 m at 5 cm evidence cells.
+pub const FW_HOME_SIDE: usize = 240;
+/// Words of the scan matcher's coarse levels for that home.
+pub const FW_MATCH_WORDS: usize = crate::localize::matcher_words(FW_HOME_SIDE, FW_HOME_SIDE);
+/// The firmware's scan matcher.
+pub type FwMatcher = crate::localize::ScanMatcher<FW_MATCH_WORDS>;
+/// Its RAM: the coarse levels (4 bits a block at 10, 20, 40 cm: 9 450
+/// bytes) and the points (224 × 8 bytes), beyond the evidence map; the
+/// issue's budget is 16 KiB. The searches' candidates live on the stack
+/// (12 candidates, about 1 KiB).
+pub const FW_MATCHER_BYTES: usize = core::mem::size_of::<FwMatcher>();
+const _: () = assert!(FW_MATCHER_BYTES <= 16 * 1024);
+const _: () = assert!(FW_MATCH_WORDS * 4 == 9_452);

@@ -164,102 +164,34 @@ fn unmapped_points_do_not_pull() {
     eprintln!("worst with a crowd: {worst:.1} mm");
 }
 
+/// The recorded revolution the emulated Cortex-M4 run matches
+/// (`tests/golden/scan_home.txt`, read by `examples/emu_localize.rs`): one
+/// revolution of the twin's lidar in the home flat at a known true pose.
+/// This test regenerates it and checks the file is the twin's; set
+/// `ROBOVAC_RECORD=1` to write it.
 #[test]
-#[ignore]
-fn debug_case() {
-    let name = std::env::var("DBG_MAP").unwrap_or("studio".into());
-    let seed: u64 = std::env::var("DBG_SEED")
-        .map(|s| s.parse().unwrap())
-        .unwrap_or(7253);
-    let mut b = bench(&name);
-    let mut rng = SplitMix64::new(seed);
-    let t = true_pose(&b.world, &mut rng);
-    let pts = twin_scan(&b.world, t, 450, 0.01, 0.02, 0.0, &mut rng);
-    let g = guess(t, -129, 77, -158538);
-    b.m.points.set(g, &pts);
-    let mut fu = Fusion::new();
-    let r = fu.relocalise(&b.m, &b.map, true, false);
-    eprintln!("reloc {:?} err {:?}", r, r.map(|p| error(p, t)));
-    let f0 = robovac::localize::field::Field::new(&b.map, &b.m.pyramid, 0, true);
-    let sc = |p: PoseU| {
-        robovac::localize::correlative::face_score(
-            &f0,
-            &pts,
-            &p,
-            robovac::math::angle::sin_cos_q30(p.theta_urad),
-            1,
-        )
-    };
-    eprintln!(
-        "score truth {} result {}",
-        sc(guess(t, 0, 0, 0)),
-        sc(r.unwrap())
+fn recorded_revolution_is_the_twins() {
+    let world = World::new(suite_map("home").unwrap(), 0.1);
+    let mut rng = SplitMix64::new(2026);
+    let truth = (4.5, 3.4, 0.5);
+    let pts = twin_scan(&world, truth, 450, 0.01, 0.02, 0.0, &mut rng);
+    let mut text = format!(
+        "# one twin revolution in maps/flat/home.txt: true pose x_mm y_mm theta_urad, then points (robot frame, mm)\n{} {} {}\n",
+        4500, 3400, 500_000
     );
-    let f1 = robovac::localize::field::Field::new(&b.map, &b.m.pyramid, 1, true);
-    let mut top = robovac::localize::correlative::TopK::new();
-    robovac::localize::correlative::window(
-        &f1,
-        &pts,
-        g,
-        &robovac::localize::correlative::START_WINDOW,
-        &mut top,
-    );
-    for (s, p) in top.as_slice() {
-        eprintln!("cand {s} {:?}", error(*p, t));
+    for (x, y) in &pts {
+        text.push_str(&format!("{x} {y}\n"));
     }
-    let f0b = robovac::localize::field::Field::new(&b.map, &b.m.pyramid, 0, true);
-    let f1b = robovac::localize::field::Field::new(&b.map, &b.m.pyramid, 1, true);
-    let (bst, run) = robovac::localize::correlative::settle(&[f1b, f0b], &pts, &top);
-    eprintln!(
-        "settle best {:?} runner {:?}",
-        bst.map(|m| error(m.pose, t)),
-        run.map(|m| error(m.pose, t))
-    );
-    let mut p = top.as_slice()[0].1;
-    for k in [1usize, 0] {
-        let f = robovac::localize::field::Field::new(&b.map, &b.m.pyramid, k, true);
-        for _ in 0..8 {
-            let n = robovac::localize::gauss_newton::normal(&f, &pts, &p);
-            let st = robovac::localize::gauss_newton::solve(&n, f.cell_mm()).unwrap();
-            eprintln!(
-                "L{k} err {:?} score {} near {} step {:?}",
-                error(p, t),
-                robovac::localize::correlative::face_score(
-                    &f,
-                    &pts,
-                    &p,
-                    robovac::math::angle::sin_cos_q30(p.theta_urad),
-                    1
-                ),
-                n.near,
-                st
-            );
-            p.x_mm += st.0;
-            p.y_mm += st.1;
-            p.theta_urad += st.2;
-        }
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/golden/scan_home.txt");
+    if std::env::var_os("ROBOVAC_RECORD").is_some() {
+        std::fs::write(&path, &text).unwrap();
     }
-    let (q, n) = robovac::localize::gauss_newton::refine(&f0, &pts, r.unwrap(), 20);
-    eprintln!(
-        "refined more: {:?} {:?} near {} inl {}",
-        q,
-        error(q, t),
-        n.near,
-        n.inliers
-    );
-    eprintln!("truth {t:?} pts {}", pts.len());
-    let mut p = g;
-    for k in [2usize, 1, 0] {
-        let f = robovac::localize::field::Field::new(&b.map, &b.m.pyramid, k, true);
-        let n = robovac::localize::gauss_newton::normal(&f, &pts, &guess(t, 0, 0, 0));
-        eprintln!(
-            "level {k} at truth: near {} inl {} step {:?}",
-            n.near,
-            n.inliers,
-            robovac::localize::gauss_newton::solve(&n, f.cell_mm())
-        );
-        let (q, n2) = robovac::localize::gauss_newton::refine(&f, &pts, p, 6);
-        p = q;
-        eprintln!("   refine -> inl {} err {:?}", n2.inliers, error(p, t));
-    }
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), text);
+    // And the host matches it as the target must.
+    let mut b = bench("home");
+    b.m.points.set(guess(truth, 150, -150, 174_533), &pts);
+    let p = Fusion::new().relocalise(&b.m, &b.map, true, false).unwrap();
+    let (d, dt) = error(p, truth);
+    assert!(d <= 10.0 && dt <= 8_727, "{d:.1} mm {dt} µrad");
 }

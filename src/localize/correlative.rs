@@ -6,14 +6,15 @@
 //! Scan Matching", ICRA 2009: score every pose of a grid on a blurred
 //! map; Hess et al. 2016 seed their optimiser with it the same way).
 //!
-//! Work bounds: the window costs 31 headings × 169 offsets × 112 points
-//! samples; the global search (headings outer, so the rotated points are
+//! Work bounds: the start's window costs 15 headings × 49 offsets × 56
+//! points samples on the 20 cm level, then 12 × 27 × 112 on the 10 cm one; the global search (headings outer, so the rotated points are
 //! computed once per heading) 60 headings × free places at 20 cm × 48
 //! points nearest-cell tests, then [`TOP`] refinements.
 
 use super::field::Field;
 use super::gauss_newton::{facing, refine};
 use super::points::place;
+use super::pyramid::Level;
 use super::{Match, PoseU};
 use crate::math::angle::sin_cos_q30;
 use crate::robot::lidar_map::{CellState, EvidenceMap};
@@ -21,7 +22,7 @@ use crate::robot::lidar_map::{CellState, EvidenceMap};
 /// Candidates kept for refinement.
 pub const TOP: usize = 12;
 /// Points used by the global search's coarse score.
-const GLOBAL_POINTS: usize = 48;
+const GLOBAL_POINTS: usize = 32;
 /// Heading steps of the global search (6° apart).
 const GLOBAL_HEADINGS: i64 = 60;
 
@@ -86,6 +87,15 @@ impl TopK {
         }
     }
 
+    /// The lowest score kept once full (a new candidate must beat it), 0
+    /// before.
+    pub fn floor(&self) -> u32 {
+        if self.len < TOP {
+            return 0;
+        }
+        self.as_slice().iter().map(|c| c.0).min().unwrap_or(0)
+    }
+
     /// The candidates kept.
     pub fn as_slice(&self) -> &[(u32, PoseU)] {
         self.items.get(..self.len).unwrap_or(&[])
@@ -108,12 +118,23 @@ pub struct Window {
     pub stride: usize,
 }
 
-/// The start's window: ±15° in 1° steps, ±240 mm in 40 mm steps (within
-/// the 10 cm level's basin of every pose in it).
+/// The start's window, first on the 20 cm level: ±14° in 2° steps,
+/// ±240 mm in 80 mm steps; its best candidates are then sharpened on the
+/// 10 cm level by [`SHARPEN_WINDOW`] (together within that level's basin of
+/// every pose in the window, at a tenth of the single fine window's cost).
 pub const START_WINDOW: Window = Window {
-    turns: 15,
+    turns: 7,
+    turn_urad: 34_907,
+    steps: 3,
+    step_mm: 80,
+    stride: 4,
+};
+
+/// The sharpening window around a start candidate: ±1° and ±40 mm.
+pub const SHARPEN_WINDOW: Window = Window {
+    turns: 1,
     turn_urad: 17_453,
-    steps: 6,
+    steps: 1,
     step_mm: 40,
     stride: 2,
 };
@@ -125,7 +146,7 @@ pub const CANDIDATE_WINDOW: Window = Window {
     turn_urad: 17_453,
     steps: 2,
     step_mm: 50,
-    stride: 4,
+    stride: 8,
 };
 
 /// Scores the window `w` of poses around `guess` on `field` by
@@ -153,17 +174,19 @@ pub fn window<const EV: usize, const MW: usize>(
     }
 }
 
-/// The global search's candidates, each replaced by the best pose of the
-/// [`CANDIDATE_WINDOW`] around it on the 10 cm level.
+/// Candidates of a coarser search, each replaced by the best pose of the
+/// window `w` around it on `field` ([`CANDIDATE_WINDOW`] after the global
+/// search, [`SHARPEN_WINDOW`] after the start's).
 pub fn sharpen<const EV: usize, const MW: usize>(
     field: &Field<'_, EV, MW>,
     pts: &[(i32, i32)],
     coarse: &TopK,
+    w: &Window,
 ) -> TopK {
     let mut out = TopK::new();
     for &(_, pose) in coarse.as_slice() {
         let mut local = TopK::new();
-        window(field, pts, pose, &CANDIDATE_WINDOW, &mut local);
+        window(field, pts, pose, w, &mut local);
         if let Some(&(s, p)) = local.as_slice().iter().max_by_key(|c| c.0) {
             out.offer(s, p);
         }
@@ -223,44 +246,66 @@ pub fn best_heading<const EV: usize, const MW: usize>(
     best.1
 }
 
-/// Scores every free place of `map` (at 20 cm) × 60 headings on the
-/// coarsest `field` by nearest-cell wall hits.
-pub fn global<const EV: usize, const MW: usize>(
-    field: &Field<'_, EV, MW>,
+/// Scores every free place of `map` (every 4th evidence cell: 20 cm) ×
+/// 60 headings on the coarsest `level` (blocks of 8 cells, 40 cm) by
+/// nearest-block wall hits. Places step by half a block, so a point's
+/// block is the place's block plus an offset that depends only on the
+/// place's parity: per heading the offsets are computed once, and a hit
+/// costs one table read and one level read.
+pub fn global<const EV: usize>(
+    level: &Level<'_>,
     map: &EvidenceMap<EV>,
     pts: &[(i32, i32)],
 ) -> TopK {
     let mut top = TopK::new();
     let k = pts.len().div_ceil(GLOBAL_POINTS).max(1);
-    let mut rot = [(0i32, 0i32); GLOBAL_POINTS];
     let res = map.res_mm().max(1) as i32;
-    let stride = (200 / res).max(1) as usize;
+    let block = 8 * res;
+    // Per point: block offsets (x even, x odd, row even, row odd).
+    let mut off = [(0i32, 0i32, 0i32, 0i32); GLOBAL_POINTS];
     let zero = PoseU::default();
     for ih in 0..GLOBAL_HEADINGS {
         let theta = ih * 6_283_185 / GLOBAL_HEADINGS;
         let sc = sin_cos_q30(theta);
         let mut n = 0;
-        for (slot, &p) in rot.iter_mut().zip(pts.iter().step_by(k)) {
-            *slot = place(&zero, sc, p);
+        for (slot, &p) in off.iter_mut().zip(pts.iter().step_by(k)) {
+            let (rx, ry) = place(&zero, sc, p);
+            let o = |par: i32, d: i32| (par * 4 * res + res / 2 + d).div_euclid(block);
+            *slot = (o(0, rx), o(1, rx), o(0, -ry), o(1, -ry));
             n += 1;
         }
-        let rot = rot.get(..n).unwrap_or(&[]);
-        for cy in (0..map.height() as i32).step_by(stride) {
-            for cx in (0..map.width() as i32).step_by(stride) {
+        let off = off.get(..n).unwrap_or(&[]);
+        for ky in 0..map.height().div_ceil(4) as i32 {
+            for kx in 0..map.width().div_ceil(4) as i32 {
+                let (cx, cy) = (4 * kx, 4 * ky);
                 if map.state(cx, cy) != CellState::Free {
                     continue;
                 }
-                let x = cx * res + res / 2;
-                let y = (map.height() as i32 - 1 - cy) * res + res / 2;
-                let score = rot.iter().filter(|p| field.hit(x + p.0, y + p.1)).count();
-                top.offer(
-                    score as u32,
-                    PoseU {
-                        x_mm: x,
-                        y_mm: y,
-                        theta_urad: theta,
-                    },
-                );
+                let (bx, by) = (kx >> 1, ky >> 1);
+                let (px, py) = (kx & 1 == 1, ky & 1 == 1);
+                let hits = |o: &[(i32, i32, i32, i32)]| {
+                    o.iter()
+                        .filter(|o| {
+                            let ox = if px { o.1 } else { o.0 };
+                            let oy = if py { o.3 } else { o.2 };
+                            level.share(bx + ox, by + oy) > 0
+                        })
+                        .count()
+                };
+                // Bound: a place whose first half cannot reach the kept
+                // candidates even with every other point a hit is dropped.
+                let (a, b) = off.split_at(off.len() / 2);
+                let first = hits(a);
+                if ((first + b.len()) as u32) < top.floor() {
+                    continue;
+                }
+                let score = first + hits(b);
+                let pose = PoseU {
+                    x_mm: cx * res + res / 2,
+                    y_mm: (map.height() as i32 - 1 - cy) * res + res / 2,
+                    theta_urad: theta,
+                };
+                top.offer(score as u32, pose);
             }
         }
     }

@@ -91,11 +91,15 @@ impl<'a, const EV: usize, const MW: usize> Field<'a, EV, MW> {
     /// it, measured from the cell centre grid (see the module doc).
     #[inline]
     fn locate(&self, x_mm: i32, y_mm: i32) -> (i32, i32, i32, i32) {
-        let c = self.cell_mm as i64;
-        let u = (x_mm as i64 * 256).div_euclid(c) - 128;
-        let t = ((self.top_mm as i64 - y_mm as i64) * 256).div_euclid(c) - 128;
-        let clamp = |v: i64| v.clamp(-(1 << 28), 1 << 28) as i32;
-        let (u, t) = (clamp(u), clamp(t));
+        // i32 throughout (the Cortex-M4 divides 32-bit integers in
+        // hardware; a 64-bit division is a library call of ~100 cycles):
+        // positions are clamped to ±2^22 mm (4 km), so ×256 fits.
+        let c = self.cell_mm.max(1);
+        let x = x_mm.clamp(-(1 << 22), 1 << 22);
+        let t =
+            (self.top_mm.min(1 << 22) - y_mm.clamp(-(1 << 22), 1 << 22)).clamp(-(1 << 23), 1 << 23);
+        let u = (x * 256).div_euclid(c) - 128;
+        let t = (t * 256).div_euclid(c) - 128;
         (u >> 8, t >> 8, u & 255, t & 255)
     }
 
@@ -118,15 +122,5 @@ impl<'a, const EV: usize, const MW: usize> Field<'a, EV, MW> {
             // Rows grow southward: north is −t.
             gy_q8: -dt / 15,
         }
-    }
-
-    /// The nearest-cell wall test at (x, y) mm (the global search's cheap
-    /// score): any wall in the block.
-    #[inline]
-    pub fn hit(&self, x_mm: i32, y_mm: i32) -> bool {
-        let c = self.cell_mm.max(1);
-        let bx = x_mm.div_euclid(c);
-        let by = (self.top_mm - y_mm).div_euclid(c);
-        self.wall(bx, by) > 0
     }
 }

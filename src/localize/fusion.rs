@@ -215,12 +215,13 @@ impl Fusion {
         }
         let f = |k| Field::new(map, &m.pyramid, k, prior_only);
         let top = if global {
-            correlative::sharpen(&f(1), pts, &correlative::global(&f(3), map, pts))
+            let coarse = correlative::global(&m.pyramid.level(3), map, pts);
+            correlative::sharpen(&f(1), pts, &coarse, &correlative::CANDIDATE_WINDOW)
         } else {
-            let mut top = correlative::TopK::new();
+            let mut coarse = correlative::TopK::new();
             let w = &correlative::START_WINDOW;
-            correlative::window(&f(1), pts, m.points.reference(), w, &mut top);
-            top
+            correlative::window(&f(2), pts, m.points.reference(), w, &mut coarse);
+            correlative::sharpen(&f(1), pts, &coarse, &correlative::SHARPEN_WINDOW)
         };
         let (best, runner) = correlative::settle(&[f(1), f(0)], pts, &top);
         let best = best.ok_or(MatchError::Unconstrained)?;

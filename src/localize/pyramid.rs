@@ -116,10 +116,48 @@ impl<const MW: usize> Pyramid<MW> {
             .unwrap_or(0)
     }
 
+    /// One level's view for tight loops (no per-read dimension lookup).
+    pub fn level(&self, k: usize) -> Level<'_> {
+        let (lw, lh, first) = self
+            .dims
+            .get(k.wrapping_sub(1))
+            .copied()
+            .unwrap_or((0, 0, 0));
+        Level {
+            words: &self.words,
+            lw: lw as i32,
+            lh: lh as i32,
+            first: first as usize,
+        }
+    }
+
     /// A level's size in blocks.
     pub fn dims(&self, k: usize) -> (u32, u32) {
         self.dims
             .get(k.wrapping_sub(1))
             .map_or((0, 0), |&(w, h, _)| (w, h))
+    }
+}
+
+/// One coarse level, borrowed ([`Pyramid::level`]).
+pub struct Level<'a> {
+    words: &'a [u32],
+    lw: i32,
+    lh: i32,
+    first: usize,
+}
+
+impl Level<'_> {
+    /// The share (0..=15) at column `bx`, row `by` from the top (off the
+    /// level: 0).
+    #[inline]
+    pub fn share(&self, bx: i32, by: i32) -> u32 {
+        if bx < 0 || by < 0 || bx >= self.lw || by >= self.lh {
+            return 0;
+        }
+        let i = self.first + (by * self.lw + bx) as usize;
+        self.words
+            .get(i >> 3)
+            .map_or(0, |w| (w >> ((i & 7) * 4)) & 15)
     }
 }

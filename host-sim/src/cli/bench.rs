@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use super::args::write_file;
+use super::args::{write_file, NoiseArg};
 use super::progress;
 use host_sim::run::bench::paper_table2;
 use serde_json::json;
@@ -44,6 +44,21 @@ pub enum BenchCmd {
         /// Write every mission's results as JSON.
         #[arg(long)]
         json: Option<PathBuf>,
+        /// Maps: the flats (studio, home, office) and the real homes (S8,
+        /// z10, 1c, S6, 3790, l10su); `flats` or `homes` for each set.
+        #[arg(long, value_delimiter = ',', default_value = "flats")]
+        maps: Vec<String>,
+        /// People walking about (a list).
+        #[arg(long, value_delimiter = ',', default_value = "0,1,3")]
+        people: Vec<usize>,
+        /// Noise levels (a list of none, realistic, harsh).
+        #[arg(
+            long,
+            value_enum,
+            value_delimiter = ',',
+            default_value = "none,realistic"
+        )]
+        noise: Vec<NoiseArg>,
     },
     /// Wheel speed step response to 0.3 m/s (rise time, overshoot, steady-state error).
     WheelStep {
@@ -102,7 +117,19 @@ pub fn run(which: BenchCmd) -> Result<(), String> {
             max_time,
             threads,
             json,
-        } => cmd_bench_missions(runs, seed, max_time, threads, json.as_deref()),
+            maps,
+            people,
+            noise,
+        } => {
+            let noises: Vec<_> = noise.into_iter().map(Into::into).collect();
+            let maps = suite_map_names(&maps)?;
+            let sel = SuiteSelection {
+                maps: &maps,
+                people: &people,
+                noises: &noises,
+            };
+            cmd_bench_missions(runs, seed, max_time, threads, json.as_deref(), &sel)
+        }
         BenchCmd::WheelStep { seed } => cmd_wheel_step(seed),
     }
 }
@@ -374,6 +401,34 @@ fn print_table2_ratios(
     }
 }
 
+/// Which missions the suite runs.
+struct SuiteSelection<'a> {
+    maps: &'a [&'static str],
+    people: &'a [usize],
+    noises: &'a [host_sim::sim::robot::Noise],
+}
+
+/// Map names from the command line (`flats`, `homes` or single names).
+fn suite_map_names(names: &[String]) -> Result<Vec<&'static str>, String> {
+    use host_sim::run::suite::{HOME_MAPS, SUITE_MAPS};
+    let mut out = Vec::new();
+    for n in names {
+        match n.as_str() {
+            "flats" => out.extend(SUITE_MAPS.iter().map(|m| m.0)),
+            "homes" => out.extend(HOME_MAPS.iter().map(|m| m.0)),
+            _ => out.push(
+                SUITE_MAPS
+                    .iter()
+                    .chain(HOME_MAPS.iter())
+                    .map(|m| m.0)
+                    .find(|m| *m == n)
+                    .ok_or_else(|| format!("unknown suite map {n:?}"))?,
+            ),
+        }
+    }
+    Ok(out)
+}
+
 /// `host-sim bench missions`.
 fn cmd_bench_missions(
     runs: usize,
@@ -381,6 +436,7 @@ fn cmd_bench_missions(
     max_time: f64,
     threads: Option<usize>,
     json: Option<&Path>,
+    sel: &SuiteSelection<'_>,
 ) -> Result<(), String> {
     use host_sim::run::suite::{run_suite, suite_cases};
     if runs == 0 {
@@ -389,7 +445,7 @@ fn cmd_bench_missions(
     if !(max_time.is_finite() && max_time > 0.0) {
         return Err("--max-time must be a positive number of seconds".into());
     }
-    let cases = suite_cases(runs, seed);
+    let cases = suite_cases(runs, seed, sel.maps, sel.people, sel.noises);
     let threads = threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
         .max(1);
@@ -439,13 +495,17 @@ fn print_suite_groups(
     )],
 ) {
     println!(
-        "{:<7} {:<8} {:<10} {:>3} {:>8} {:>8} {:>9} {:>9} {:>6} {:>5} {:>6} {:>6} {:>7} {:>7}",
+        "{:<7} {:<8} {:<10} {:>3} {:>8} {:>8} {:>6} {:>6} {:>6} {:>6} {:>9} {:>9} {:>6} {:>5} {:>6} {:>6} {:>7} {:>7}",
         "map",
         "mode",
         "noise",
         "n",
         "finished",
-        "returned",
+        "docked",
+        "rms mm",
+        "max mm",
+        "rms °",
+        "max °",
         "cover avg",
         "cover min",
         "repet",
@@ -480,14 +540,21 @@ fn print_suite_groups(
         let mean = |f: &dyn Fn(&host_sim::run::mission::MissionReport) -> f64| {
             sel.iter().map(|r| f(r)).sum::<f64>() / n
         };
+        let worst = |f: &dyn Fn(&host_sim::run::mission::MissionReport) -> f64| {
+            sel.iter().map(|r| f(r)).fold(0.0, f64::max)
+        };
         println!(
-            "{:<7} {:<8} {:<10} {:>3} {:>8} {:>8} {:>8.2}% {:>8.2}% {:>6.2} {:>5} {:>6} {:>6.1} {:>7.2} {:>7.0}",
+            "{:<7} {:<8} {:<10} {:>3} {:>8} {:>8} {:>6.1} {:>6.1} {:>6.2} {:>6.2} {:>8.2}% {:>8.2}% {:>6.2} {:>5} {:>6} {:>6.1} {:>7.2} {:>7.0}",
             g.0,
             g.1,
             g.2,
             sel.len(),
             sel.iter().filter(|r| r.finished).count(),
-            sel.iter().filter(|r| r.returned_to_start).count(),
+            sel.iter().filter(|r| r.docked).count(),
+            worst(&|r| r.pose_error_rms_mm),
+            worst(&|r| r.pose_error_max_mm),
+            worst(&|r| r.heading_error_rms_mrad).to_degrees() / 1000.0,
+            worst(&|r| r.heading_error_max_mrad).to_degrees() / 1000.0,
             100.0 * mean(&|r| r.coverage),
             100.0 * sel.iter().map(|r| r.coverage).fold(1.0, f64::min),
             mean(&|r| r.repetition),

@@ -15,8 +15,45 @@ pub const SUITE_MAPS: [(&str, &str); 3] = [
     ("office", include_str!("../../../maps/flat/office.txt")),
 ];
 
-/// A built-in map as map data (0.1 m cells).
+/// The six real homes (ValetudoMap exports, Apache-2.0, see
+/// `maps/valetudo/README.md`): name, JSON text (5 cm pixels).
+pub const HOME_MAPS: [(&str, &str); 6] = [
+    (
+        "S8",
+        include_str!("../../../maps/valetudo/S8_FW1286_with_obstacles.json"),
+    ),
+    (
+        "z10",
+        include_str!("../../../maps/valetudo/z10_1056_paths.json"),
+    ),
+    (
+        "1c",
+        include_str!("../../../maps/valetudo/1c_1096_virtualwall_and_forbidden_zone.json"),
+    ),
+    (
+        "S6",
+        include_str!("../../../maps/valetudo/S6_FW2652_with_active_segment_and_no_mop_zone.json"),
+    ),
+    (
+        "3790",
+        include_str!("../../../maps/valetudo/converted_3790.json"),
+    ),
+    (
+        "l10su",
+        include_str!("../../../maps/valetudo/l10su_1121_new_path.json"),
+    ),
+];
+
+/// A built-in map as map data: a flat (0.1 m cells) or a real home (5 cm).
 pub fn suite_map(name: &str) -> Result<MapData, String> {
+    if let Some((_, text)) = HOME_MAPS.iter().find(|(n, _)| *n == name) {
+        return crate::io::valetudo::parse_valetudo(
+            std::path::Path::new(name),
+            text.as_bytes(),
+            None,
+        )
+        .map_err(|e| e.to_string());
+    }
     let (_, text) = SUITE_MAPS
         .iter()
         .find(|(n, _)| *n == name)
@@ -44,14 +81,20 @@ pub struct SuiteCase {
     pub seed: u64,
 }
 
-/// The suite: every built-in map × known/unknown × 0, 1, 3 people × noise
-/// none/realistic × `runs` seeds (from `seed`).
-pub fn suite_cases(runs: usize, seed: u64) -> Vec<SuiteCase> {
+/// The suite: `maps` × known/unknown × `people` × `noises` × `runs`
+/// seeds (from `seed`).
+pub fn suite_cases(
+    runs: usize,
+    seed: u64,
+    maps: &[&'static str],
+    people: &[usize],
+    noises: &[Noise],
+) -> Vec<SuiteCase> {
     let mut v = Vec::new();
-    for (map, _) in SUITE_MAPS {
+    for &map in maps {
         for mode in [MapMode::Known, MapMode::Unknown] {
-            for people in [0usize, 1, 3] {
-                for noise in [Noise::None, Noise::Realistic] {
+            for &people in people {
+                for &noise in noises {
                     for k in 0..runs as u64 {
                         v.push(SuiteCase {
                             map,
@@ -83,8 +126,8 @@ pub fn run_suite(
     let run_one = |c: &SuiteCase| {
         let r = suite_map(c.map).and_then(|map| {
             let opts = MissionOptions {
+                cell_m: map.cell_m.unwrap_or(0.1),
                 map,
-                cell_m: 0.1,
                 mode: c.mode,
                 people: c.people,
                 noise: c.noise,

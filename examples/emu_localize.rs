@@ -1,0 +1,170 @@
+//! The scan matcher on the emulated Cortex-M4 (`scripts/emu.sh` runs it
+//! after `emu.rs`, on `qemu-system-arm -machine netduinoplus2 -icount
+//! shift=0`): a recorded twin revolution in the home flat
+//! (`tests/golden/scan_home.txt`, checked against the twin by host-sim's
+//! `recorded_revolution_is_the_twins`) matched against the prior map, with
+//! the results checked on the target against the recorded true pose and
+//! each step's cost reported in instructions:
+//! - building the coarse levels of the prior;
+//! - one tracking match (a guess 39 mm and 1.1° off);
+//! - the start's window relocalisation (150 mm, 150 mm and 10° off);
+//! - a whole-map relocalisation (a kidnap: no guess at all).
+//!
+//! And the matcher's RAM for the firmware's 12 × 12 m home at 5 cm,
+//! asserted at compile time in `robovac::capacity`.
+#![cfg_attr(target_os = "none", no_std)]
+#![cfg_attr(target_os = "none", no_main)]
+
+#[cfg(target_os = "none")]
+#[path = "emu_common/mod.rs"]
+mod common;
+
+#[cfg(target_os = "none")]
+mod run {
+    use super::common::{self, exit, fail, Meter};
+    use cortex_m_rt::entry;
+    use cortex_m_semihosting::debug;
+    use defmt_semihosting as _;
+    use robovac::localize::{fusion, matcher_words, Fusion, PoseU, ScanMatcher};
+    use robovac::robot::lidar_map::{CellState, EvidenceMap};
+    use stm32f4xx_hal as _;
+
+    const MAP: &str = include_str!("../maps/flat/home.txt");
+    const SCAN: &str = include_str!("../tests/golden/scan_home.txt");
+    /// The home flat: 96 × 72 cells of 10 cm, as 192 × 144 of 5 cm.
+    const W: usize = 192;
+    const H: usize = 144;
+    const MW: usize = matcher_words(W, H);
+
+    /// The flat into the evidence map, each 10 cm cell as 2 × 2 cells.
+    fn load_map(map: &mut EvidenceMap<{ W * H }>) {
+        if map.reset(W as u32, H as u32, 50).is_err() {
+            fail("evidence map size");
+        }
+        for (row, line) in MAP.lines().enumerate() {
+            for (col, ch) in line.bytes().enumerate() {
+                let st = if ch == b'#' {
+                    CellState::Occupied
+                } else {
+                    CellState::Free
+                };
+                for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                    map.set_state(2 * col as i32 + dx, 2 * row as i32 + dy, st);
+                }
+            }
+        }
+        map.freeze_prior();
+    }
+
+    fn int(s: Option<&str>) -> i64 {
+        s.and_then(|t| t.trim().parse().ok())
+            .unwrap_or_else(|| fail("scan file"))
+    }
+
+    /// The recorded revolution: the true pose and the points.
+    fn load_scan(pts: &mut [(i32, i32); 512]) -> (PoseU, usize) {
+        let mut lines = SCAN.lines().filter(|l| !l.starts_with('#'));
+        let mut head = lines.next().unwrap_or_else(|| fail("scan file")).split(' ');
+        let truth = PoseU {
+            x_mm: int(head.next()) as i32,
+            y_mm: int(head.next()) as i32,
+            theta_urad: int(head.next()),
+        };
+        let mut n = 0;
+        for (slot, l) in pts.iter_mut().zip(lines) {
+            let mut f = l.split(' ');
+            *slot = (int(f.next()) as i32, int(f.next()) as i32);
+            n += 1;
+        }
+        (truth, n)
+    }
+
+    fn off(p: PoseU, dx: i32, dy: i32, dt: i64) -> PoseU {
+        PoseU {
+            x_mm: p.x_mm + dx,
+            y_mm: p.y_mm + dy,
+            theta_urad: p.theta_urad + dt,
+        }
+    }
+
+    /// Fails unless `p` is within 10 mm and 0.5° of the truth; returns
+    /// the error (mm, mrad).
+    fn check(p: PoseU, t: PoseU, what: &str) -> (i64, i64) {
+        let (dx, dy) = ((p.x_mm - t.x_mm) as i64, (p.y_mm - t.y_mm) as i64);
+        let d = robovac::math::cost::isqrt_u64((dx * dx + dy * dy) as u64) as i64;
+        let dt = robovac::localize::correlative::wrap_urad(p.theta_urad - t.theta_urad).abs();
+        if d > 10 || dt > 8_727 {
+            defmt::error!("{}: {} mm, {} urad off", what, d, dt);
+            fail(what);
+        }
+        (d, dt / 1000)
+    }
+
+    fn report(meter: &Meter, map: &mut EvidenceMap<{ W * H }>, m: &mut ScanMatcher<MW>) {
+        let ((), insn) = meter.measure(|| load_map(map));
+        defmt::println!(
+            "localize: prior map 192x144 cells loaded in {} instructions",
+            insn
+        );
+        let (ok, insn) = meter.measure(|| m.pyramid.build(map, true));
+        if !ok {
+            fail("coarse levels");
+        }
+        defmt::println!("localize: coarse levels built in {} instructions", insn);
+        let mut pts = [(0i32, 0i32); 512];
+        let (truth, n) = load_scan(&mut pts);
+        let pts = pts.get(..n).unwrap_or(&[]);
+        m.points.set(off(truth, 30, -25, 20_000), pts);
+        let (r, insn) = meter.measure(|| fusion::track(m, map, true));
+        let Ok((mt, _)) = r else {
+            fail("tracking match")
+        };
+        let (d, dt) = check(mt.pose, truth, "tracking match");
+        defmt::println!(
+            "localize: one match ({} points, {} on walls) in {} instructions; {} mm, {} mrad from the truth",
+            m.points.as_slice().len(), mt.inliers, insn, d, dt
+        );
+        m.points.set(off(truth, 150, -150, 174_533), pts);
+        let (r, insn) = meter.measure(|| Fusion::new().relocalise(m, map, true, false));
+        let Ok(p) = r else {
+            fail("window relocalisation")
+        };
+        let (d, dt) = check(p, truth, "window relocalisation");
+        defmt::println!(
+            "localize: start relocalisation (+-240 mm, +-15 deg) in {} instructions; {} mm, {} mrad from the truth",
+            insn, d, dt
+        );
+        m.points.set(PoseU::default(), pts);
+        let (r, insn) = meter.measure(|| Fusion::new().relocalise(m, map, true, true));
+        let Ok(p) = r else {
+            fail("global relocalisation")
+        };
+        let (d, dt) = check(p, truth, "global relocalisation");
+        defmt::println!(
+            "localize: whole-map relocalisation (48 m2 flat) in {} instructions; {} mm, {} mrad from the truth",
+            insn, d, dt
+        );
+    }
+
+    #[entry]
+    fn main() -> ! {
+        static mut MAP_EV: EvidenceMap<{ W * H }> = EvidenceMap::new();
+        static mut MATCHER: ScanMatcher<MW> = ScanMatcher::new();
+        let meter = common::start_meter();
+        report(&meter, MAP_EV, MATCHER);
+        defmt::println!(
+            "localize memory: matcher {} bytes here, {} bytes for a 12x12 m home at 5 cm (asserted <= 16 KiB); evidence map {} bytes here",
+            core::mem::size_of::<ScanMatcher<MW>>(),
+            robovac::capacity::FW_MATCHER_BYTES,
+            core::mem::size_of::<EvidenceMap<{ W * H }>>()
+        );
+        defmt::println!("emulated localization run: all checks passed");
+        exit(debug::EXIT_SUCCESS)
+    }
+}
+
+#[cfg(not(target_os = "none"))]
+fn main() {
+    eprintln!("emu_localize runs on the emulated Cortex-M4: bash scripts/emu.sh");
+    std::process::exit(2);
+}
