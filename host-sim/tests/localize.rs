@@ -36,7 +36,7 @@ fn true_pose(w: &World, rng: &mut SplitMix64) -> (f64, f64, f64) {
         let x = 0.3 + (rng.next_u64() % 10_000) as f64 / 10_000.0 * (wm - 0.6);
         let y = 0.3 + (rng.next_u64() % 10_000) as f64 / 10_000.0 * (hm - 0.6);
         if !w.disc_hits_wall(x, y, 0.3) {
-            let th = (rng.next_u64() % 6283) as f64 / 1000.0 - 3.1415;
+            let th = (rng.next_u64() % 6283) as f64 / 1000.0 - std::f64::consts::PI;
             return (x, y, th);
         }
     }

@@ -79,7 +79,7 @@ impl ScanPoints {
         for (pose, frame) in scan.frames() {
             beams(pose, mount, frame, 0, |_, _, hx, hy, hit| {
                 i += 1;
-                if !hit || i % k != 0 {
+                if !hit || !i.is_multiple_of(k) {
                     return;
                 }
                 let (dx, dy) = ((hx - r.x_mm) as i64, (hy - r.y_mm) as i64);

@@ -28,12 +28,24 @@ pub struct MapData {
     pub extras: Option<Box<MapExtras>>,
 }
 
+/// A room: its id, its name when given, its cells (column, row from the
+/// top).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Room {
+    /// Segment id.
+    pub id: u32,
+    /// Name, when the file gives one.
+    pub name: Option<String>,
+    /// Cells (column, row from the top).
+    pub cells: Vec<(u32, u32)>,
+}
+
 /// What a ValetudoMap adds to the floor plan (metres, in the map's world
 /// frame: x east, y north, origin at the bottom-left corner).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct MapExtras {
-    /// Rooms: id, name (when given), cells (column, row from the top).
-    pub rooms: Vec<(u32, Option<String>, Vec<(u32, u32)>)>,
+    /// Rooms.
+    pub rooms: Vec<Room>,
     /// No-go areas (polygons).
     pub no_go: Vec<Vec<(f64, f64)>>,
     /// Virtual walls (segments).

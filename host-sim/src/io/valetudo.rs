@@ -16,7 +16,7 @@ use std::path::Path;
 
 use serde::Deserialize;
 
-use super::maps::{GreyImage, MapData, MapError, MapExtras};
+use super::maps::{GreyImage, MapData, MapError, MapExtras, Room};
 
 /// Pixels of border kept around the used area.
 const BORDER_PX: i64 = 8;
@@ -68,7 +68,7 @@ fn bad(path: &Path, msg: impl std::fmt::Display) -> MapError {
 
 /// A layer's pixels, validated: (x, y) map pixels.
 fn layer_pixels(path: &Path, l: &RawLayer) -> Result<Vec<(i64, i64)>, MapError> {
-    if l.pixels.len() % 2 != 0 || l.compressed_pixels.len() % 3 != 0 {
+    if !l.pixels.len().is_multiple_of(2) || !l.compressed_pixels.len().is_multiple_of(3) {
         return Err(bad(
             path,
             format!("layer {}: pixel lists of the wrong length", l.kind),
@@ -162,9 +162,10 @@ pub fn parse_valetudo(path: &Path, bytes: &[u8], cell_m: Option<f64>) -> Result<
     let extras = MapExtras {
         rooms: rooms_px
             .into_iter()
-            .map(|(id, name, px)| {
-                let cells = px.iter().filter_map(|&(x, y)| frame.cell(x, y)).collect();
-                (id, name, cells)
+            .map(|(id, name, px)| Room {
+                id,
+                name,
+                cells: px.iter().filter_map(|&(x, y)| frame.cell(x, y)).collect(),
             })
             .collect(),
         ..entities(&raw.entities, &frame)

@@ -37,10 +37,43 @@ pub fn summary(rep: &MissionReport) -> String {
     )
 }
 
+/// What a ValetudoMap adds: the vendor robot's own paths (grey), no-go
+/// areas (red, translucent) and virtual walls (red lines).
+fn map_extras(c: &mut Canvas, map: &MapData) {
+    let Some(x) = map.extras.as_ref() else {
+        return;
+    };
+    for p in &x.paths {
+        c.polyline(p, 1, r##"stroke="#888" stroke-width="0.8" opacity="0.6""##);
+    }
+    for poly in &x.no_go {
+        let pts: Vec<String> = poly
+            .iter()
+            .map(|&p| {
+                let (px, py) = c.px(p);
+                format!("{px:.1},{py:.1}")
+            })
+            .collect();
+        c.raw(&format!(
+            "<polygon points=\"{}\" fill=\"#d62728\" fill-opacity=\"0.25\" stroke=\"#d62728\"/>\n",
+            pts.join(" ")
+        ));
+    }
+    for &(a, b) in &x.virtual_walls {
+        let (a, b) = (c.px(a), c.px(b));
+        c.raw(&format!(
+            "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"#d62728\" stroke-width=\"3\"/>\n",
+            a.0, a.1, b.0, b.1
+        ));
+    }
+}
+
 /// The mission as an SVG: the ground truth, the swept floor shaded (missed
 /// reachable floor in red), the trajectory, people's tracks, avoidances
 /// (blue rings) and collisions (red crosses: the robot's; orange: a person
-/// walked into it), with the metrics as a caption.
+/// walked into it), the robot's own estimate beside the truth, and a
+/// ValetudoMap's paths, no-go areas and virtual walls, with the metrics as
+/// a caption.
 pub fn mission_svg(
     map: &MapData,
     cell_m: f64,
@@ -77,10 +110,16 @@ pub fn mission_svg(
             r##"stroke="#ff7f0e" stroke-width="1" opacity="0.5""##,
         );
     }
+    map_extras(&mut c, map);
     c.polyline(
         &t.truth,
         5,
         r##"stroke="#1f3f9f" stroke-width="1.2" opacity="0.8""##,
+    );
+    c.polyline(
+        &t.estimate,
+        1,
+        r##"stroke="#e377c2" stroke-width="1" stroke-dasharray="3,3" opacity="0.9""##,
     );
     for &p in &t.avoidances {
         let (x, y) = c.px(p);
@@ -123,7 +162,17 @@ pub fn mission_svg(
             rep.sim_time_s,
             rep.ideal_time_s
         ),
-        "green: swept · red: reachable floor missed · blue line: robot · orange: people · rings: avoidances · crosses: collisions · square: dock".to_string(),
+        format!(
+            "pose error vs truth: RMS {:.1} mm, max {:.1} mm; heading RMS {:.1} mrad, max {:.1} mrad · docked {} ({:.0} mm, {:.0} mrad)",
+            rep.pose_error_rms_mm,
+            rep.pose_error_max_mm,
+            rep.heading_error_rms_mrad,
+            rep.heading_error_max_mrad,
+            rep.docked,
+            rep.dock_error_mm,
+            rep.dock_heading_error_mrad
+        ),
+        "green: swept · red: reachable floor missed · blue line: robot (truth) · pink dashes: its own estimate · orange: people · rings: avoidances · crosses: collisions · square: dock · grey: the vendor robot's paths · red hatched: no-go areas, red lines: virtual walls".to_string(),
     ];
     c.finish(&lines)
 }
