@@ -195,3 +195,37 @@ fn recorded_revolution_is_the_twins() {
     let (d, dt) = error(p, truth);
     assert!(d <= 10.0 && dt <= 8_727, "{d:.1} mm {dt} µrad");
 }
+
+/// A corridor longer than the lidar's range constrains only the axis
+/// across it: the fusion corrects across and leaves the along-axis to the
+/// odometry (a partial correction), instead of trusting a match that
+/// cannot know where along the corridor the robot is.
+#[test]
+fn a_long_corridor_corrects_across_only() {
+    let (w, h) = (320u32, 12u32);
+    let blocked = (0..h)
+        .flat_map(|r| (0..w).map(move |c| r == 0 || r == h - 1 || c == 0 || c == w - 1))
+        .collect();
+    let map = host_sim::io::maps::MapData {
+        width: w,
+        height: h,
+        blocked,
+        cell_m: Some(0.1),
+        ..Default::default()
+    };
+    let world = World::new(map, 0.1);
+    let mut ev = Box::new(EvidenceMap::<EV>::new());
+    fill_prior(&mut ev, &world, 50, true).unwrap();
+    ev.freeze_prior();
+    let mut m = Box::new(ScanMatcher::<MW>::new());
+    assert!(m.pyramid.build(&ev, true));
+    let mut rng = SplitMix64::new(5);
+    let truth = (16.0, 0.6, 0.0);
+    let pts = twin_scan(&world, truth, 450, 0.01, 0.02, 0.0, &mut rng);
+    m.points.set(guess(truth, 60, 25, 0), &pts);
+    let mut f = Fusion::new();
+    let (dx, dy, _) = f.track(&m, &ev, true).unwrap();
+    assert_eq!(f.stats.partial, 1, "{:?}", f.stats);
+    assert!(dx.abs() <= 2, "along the corridor: {dx} mm");
+    assert!((dy + 25).abs() <= 6, "across: {dy} mm");
+}

@@ -172,22 +172,27 @@ impl Fusion {
         }
         let (mut dx, mut dy) = (mt.pose.x_mm - from.x_mm, mt.pose.y_mm - from.y_mm);
         let mut dt = wrap_urad(mt.pose.theta_urad - from.theta_urad);
+        // What the scan cannot constrain is not believed (before the
+        // gate: an unconstrained axis may have wandered).
+        let partial = mt.info_max >= MIN_INFO && mt.info_min < MIN_INFO;
+        if mt.info_max < MIN_INFO {
+            (dx, dy) = (0, 0);
+        } else if partial {
+            let (ax, ay) = (mt.strong_axis_q14.0 as i64, mt.strong_axis_q14.1 as i64);
+            let along = (dx as i64 * ax + dy as i64 * ay) >> 14;
+            (dx, dy) = (((along * ax) >> 14) as i32, ((along * ay) >> 14) as i32);
+        }
+        if mt.info_theta < MIN_INFO_THETA {
+            dt = 0;
+        }
         if dx.abs() > GATE_MM || dy.abs() > GATE_MM || dt.abs() > GATE_URAD {
             return Err(MatchError::PoorFit);
         }
         self.tracking = true;
-        if mt.info_max < MIN_INFO {
-            (dx, dy) = (0, 0);
-        } else if mt.info_min < MIN_INFO {
-            let (ax, ay) = (mt.strong_axis_q14.0 as i64, mt.strong_axis_q14.1 as i64);
-            let along = (dx as i64 * ax + dy as i64 * ay) >> 14;
-            (dx, dy) = (((along * ax) >> 14) as i32, ((along * ay) >> 14) as i32);
+        if partial {
             self.stats.partial += 1;
         } else {
             self.stats.accepted += 1;
-        }
-        if mt.info_theta < MIN_INFO_THETA {
-            dt = 0;
         }
         Ok((
             dx.clamp(-STEP_MM, STEP_MM),

@@ -9,9 +9,10 @@
 //! Q16 and fits i64 for any map up to 2^20 mm with [`super::MATCH_POINTS`]
 //! points. The 3 × 3 solve is Cramer's rule in i128 after a common shift
 //! that keeps every entry below 2^30 (the solution does not change when H
-//! and b are scaled together). A mild Levenberg damping (H_ii/16) keeps a
-//! near-singular H (a corridor) from taking a wild step, and each step is
-//! capped at one level cell and 50 mrad.
+//! and b are scaled together). A mild Levenberg damping (H_ii/16, and on
+//! the translation 1/256 of its larger diagonal) keeps a near-singular H
+//! (a corridor) from taking a wild step, and each step is capped at one
+//! level cell and 50 mrad.
 
 use super::field::Field;
 use super::points::place;
@@ -83,9 +84,13 @@ pub fn facing(s: &super::field::Sample, rx: i64, ry: i64) -> bool {
 /// `None` when singular.
 pub fn solve(n: &Normal, cell_mm: i32) -> Option<(i32, i32, i64)> {
     let mut h = n.h;
-    for i in [0usize, 3, 5] {
+    // Levenberg damping: each diagonal by 1/16 of itself, and the
+    // translation's also by 1/256 of the larger translational one, so an
+    // axis nothing constrains (a corridor) takes no wild step.
+    let floor = h[0].max(h[3]) / 256;
+    for (i, extra) in [(0usize, floor), (3, floor), (5, 0)] {
         if let Some(v) = h.get_mut(i) {
-            *v += *v / 16 + 1;
+            *v += *v / 16 + extra + 1;
         }
     }
     let big = h.iter().chain(n.b.iter()).map(|v| v.unsigned_abs()).max()?;
