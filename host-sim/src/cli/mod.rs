@@ -4,6 +4,7 @@
 
 pub mod args;
 pub mod bench;
+pub mod bench_missions;
 pub mod demo;
 pub mod drive;
 pub mod lidar;

@@ -25,33 +25,7 @@ pub struct MapData {
     /// when the map gives one.
     pub dock: Option<(f64, f64, f64)>,
     /// Rooms, no-go areas, virtual walls, paths (ValetudoMap).
-    pub extras: Option<Box<MapExtras>>,
-}
-
-/// A room: its id, its name when given, its cells (column, row from the
-/// top).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Room {
-    /// Segment id.
-    pub id: u32,
-    /// Name, when the file gives one.
-    pub name: Option<String>,
-    /// Cells (column, row from the top).
-    pub cells: Vec<(u32, u32)>,
-}
-
-/// What a ValetudoMap adds to the floor plan (metres, in the map's world
-/// frame: x east, y north, origin at the bottom-left corner).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct MapExtras {
-    /// Rooms.
-    pub rooms: Vec<Room>,
-    /// No-go areas (polygons).
-    pub no_go: Vec<Vec<(f64, f64)>>,
-    /// Virtual walls (segments).
-    pub virtual_walls: Vec<((f64, f64), (f64, f64))>,
-    /// The vendor robot's own paths (polylines).
-    pub paths: Vec<Vec<(f64, f64)>>,
+    pub extras: Option<Box<super::valetudo::MapExtras>>,
 }
 
 /// A map that could not be loaded.

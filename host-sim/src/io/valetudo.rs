@@ -16,7 +16,33 @@ use std::path::Path;
 
 use serde::Deserialize;
 
-use super::maps::{GreyImage, MapData, MapError, MapExtras, Room};
+use super::maps::{GreyImage, MapData, MapError};
+
+/// A room: its id, its name when given, its cells (column, row from the
+/// top).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Room {
+    /// Segment id.
+    pub id: u32,
+    /// Name, when the file gives one.
+    pub name: Option<String>,
+    /// Cells (column, row from the top).
+    pub cells: Vec<(u32, u32)>,
+}
+
+/// What a ValetudoMap adds to the floor plan (metres, in the map's world
+/// frame: x east, y north, origin at the bottom-left corner).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MapExtras {
+    /// Rooms.
+    pub rooms: Vec<Room>,
+    /// No-go areas (polygons).
+    pub no_go: Vec<Vec<(f64, f64)>>,
+    /// Virtual walls (segments).
+    pub virtual_walls: Vec<((f64, f64), (f64, f64))>,
+    /// The vendor robot's own paths (polylines).
+    pub paths: Vec<Vec<(f64, f64)>>,
+}
 
 /// Pixels of border kept around the used area.
 const BORDER_PX: i64 = 8;

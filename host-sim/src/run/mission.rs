@@ -11,7 +11,6 @@ use robovac::coverage::PlannerKind;
 use robovac::mission::{MapMode, Mission, MissionConfig, MotorCmd, Parts, State};
 use robovac::robot::hal::{ByteSource, MotorDriver};
 use robovac::robot::lidar_map::EvidenceMap;
-use robovac::robot::odometry::Pose;
 use robovac::Cell;
 
 use crate::capacity::{new_grid, HostGrid, HOST_EVIDENCE};
@@ -19,6 +18,9 @@ use crate::io::maps::MapData;
 use crate::sim::floor::Floor;
 use crate::sim::robot::{Noise, RobotConfig, Sim, MOUNT};
 use crate::sim::world::World;
+
+pub use super::dock::{default_start, docked_pose};
+use super::dock::{given_dock, place_dock};
 
 /// Evidence (and fine planning) cell side, mm.
 pub const EVIDENCE_MM: u32 = 50;
@@ -154,28 +156,6 @@ pub struct MissionTrace {
     pub kidnap: Option<(f64, (f64, f64, f64))>,
 }
 
-/// A free spot for the dock near the map's centre (the body plus 5 cm fits).
-pub fn default_start(world: &World, r: f64) -> Option<(f64, f64)> {
-    let (w, h) = world.size_m();
-    let mut best: Option<(f64, (f64, f64))> = None;
-    let step = 0.05;
-    let mut y = r;
-    while y < h - r {
-        let mut x = r;
-        while x < w - r {
-            if !world.disc_hits_wall(x, y, r + 0.05) {
-                let d = (x - w / 2.0).hypot(y - h / 2.0);
-                if best.is_none_or(|(b, _)| d < b) {
-                    best = Some((d, (x, y)));
-                }
-            }
-            x += step;
-        }
-        y += step;
-    }
-    best.map(|(_, p)| p)
-}
-
 /// The host's planning buffers.
 pub struct HostParts {
     planner: Box<crate::run::plan::HostCoverage>,
@@ -293,88 +273,6 @@ pub(crate) type HostMissionParts<'a> = Parts<
     HOST_EVIDENCE,
     { crate::capacity::HOST_MATCH_WORDS },
 >;
-
-/// The dock pose the executive is given: the truth, or in known mode
-/// under noise the truth off by up to ±0.2 m and ±15° (a person put the
-/// robot down; the executive relocalises within that window), drawn from
-/// the seed.
-fn given_dock(opts: &MissionOptions, (x, y, th): (f64, f64, f64)) -> Pose {
-    let (mut dx, mut dy, mut dt) = (0.0, 0.0, 0.0);
-    if opts.noise.noisy() && opts.mode == MapMode::Known {
-        let mut rng = robovac::grid::maps::SplitMix64::new(opts.seed ^ 0xD0C);
-        dx = crate::sim::robot::in_range(&mut rng, (-0.2, 0.2));
-        dy = crate::sim::robot::in_range(&mut rng, (-0.2, 0.2));
-        dt = crate::sim::robot::in_range(&mut rng, (-15.0, 15.0)).to_radians();
-    }
-    let t =
-        (th + dt + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
-    Pose {
-        x_mm: ((x + dx) * 1000.0).round() as i32,
-        y_mm: ((y + dy) * 1000.0).round() as i32,
-        theta_mrad: (t * 1000.0).round() as i32,
-    }
-}
-
-/// The dock: the given start or a free spot near the centre, clear of
-/// walls; people are added and none starts on it.
-fn place_dock(
-    opts: &MissionOptions,
-    world: &mut World,
-    r: f64,
-) -> Result<((f64, f64), f64), String> {
-    let (start, heading) = match (opts.start, opts.map.dock) {
-        (Some(s), _) => (s, 0.0),
-        (None, Some(c)) => docked_pose(world, c, r)
-            .ok_or("no place for the robot in front of the map's charger")?,
-        (None, None) => (
-            default_start(world, r).ok_or("no free spot for the robot on this map")?,
-            0.0,
-        ),
-    };
-    if world.disc_hits_wall(start.0, start.1, r + 0.01) {
-        return Err(format!(
-            "the start ({:.2}, {:.2}) m is too close to a wall for the robot",
-            start.0, start.1
-        ));
-    }
-    let mut rng = robovac::grid::maps::SplitMix64::new(opts.seed ^ 0x5EED);
-    world.add_people(opts.people, &mut rng);
-    for p in &mut world.people {
-        if (p.pos.0 - start.0).hypot(p.pos.1 - start.1) < 0.6 {
-            p.next = (p.next + 1) % p.waypoints.len();
-        }
-    }
-    Ok((start, heading))
-}
-
-/// Docked at a charger (x, y m, its angle rad): the nearest place to it
-/// where the body fits with 2 cm to spare, facing away from the charger
-/// (the charger's own angle when the robot fits on it).
-pub fn docked_pose(
-    world: &World,
-    (cx, cy, angle): (f64, f64, f64),
-    r: f64,
-) -> Option<((f64, f64), f64)> {
-    let step = 0.01;
-    let mut best: Option<(f64, (f64, f64))> = None;
-    for iy in -100..=100 {
-        for ix in -100..=100 {
-            let (x, y) = (cx + ix as f64 * step, cy + iy as f64 * step);
-            let d = (x - cx).hypot(y - cy);
-            if best.is_some_and(|(b, _)| d >= b) || world.disc_hits_wall(x, y, r + 0.02) {
-                continue;
-            }
-            best = Some((d, (x, y)));
-        }
-    }
-    let (d, (x, y)) = best?;
-    let heading = if d < 0.01 {
-        angle
-    } else {
-        (y - cy).atan2(x - cx)
-    };
-    Some(((x, y), heading))
-}
 
 /// The executive's configuration for this robot. Its margins follow its
 /// lidar's range noise (the firmware is configured for its sensor; the
