@@ -24,30 +24,33 @@
 #[cfg(target_os = "none")]
 #[path = "emu_common/mod.rs"]
 mod common;
+#[cfg(target_os = "none")]
+#[path = "emu_parts/oracle.rs"]
+mod oracle;
+#[cfg(target_os = "none")]
+#[path = "emu_parts/sensors.rs"]
+mod sensors;
 
 #[cfg(target_os = "none")]
 // cortex-m-rt turns each `static mut` of the entry point into an argument.
 #[allow(clippy::too_many_arguments)]
 mod emu {
     use super::common::{self, exit, fail, Meter};
+    use super::oracle::{check_steps, Oracle};
+    use super::sensors::{dwa_cycle, lidar_and_odometry};
     use cortex_m_rt::entry;
     use cortex_m_semihosting::debug;
     use defmt_semihosting as _;
     // Links the device's interrupt vector table; nothing touches RCC.
     use robovac::capacity::{
-        BenchCoverage, BenchGrid, BENCH_CELLS, BENCH_WORDS, COVERAGE128_BYTES, GRID128_BYTES,
-        SEARCH128_BYTES,
+        BenchCoverage, BenchGrid, BENCH_WORDS, COVERAGE128_BYTES, GRID128_BYTES, SEARCH128_BYTES,
     };
     use robovac::coverage::{PlannerKind, Step};
     use robovac::grid::los::line_of_sight;
     use robovac::grid::maps::{table1_instance, SplitMix64, FLAT_40X20, TABLE1_CORNER, TABLE1_MAP};
-    use robovac::grid::Grid;
-    use robovac::math::cost::{COST_DIAGONAL, COST_PER_CELL};
-    use robovac::robot::lidar::ld06::{encode, Ld06};
+    use robovac::math::cost::COST_PER_CELL;
     use robovac::robot::lidar::scan::{Scan, ScanAssembler};
-    use robovac::robot::lidar::LidarProtocol;
-    use robovac::robot::lidar_map::{CellState, EvidenceMap, LidarMount};
-    use robovac::robot::odometry::{DriveGeometry, Odometry, Pose};
+    use robovac::robot::lidar_map::EvidenceMap;
     use robovac::search::prune::prune;
     use robovac::verify::check::Checker;
     use robovac::verify::metrics::MetricsRecorder;
@@ -58,138 +61,10 @@ mod emu {
     /// `host-sim bench table1 --seed 1`).
     const INSTANCES: u32 = 20;
 
-    // ---- independent checker: a small Dijkstra of its own -------------
-
-    /// Oracle heap entries (lazy deletion; a full heap fails the run loudly).
-    const HEAP_CAP: usize = 1024;
     /// Node budget per planner call in the bounded coverage runs.
     const NODE_BUDGET: u32 = 64;
     /// Longest path the run reads out.
     const PATH_CAP: usize = 512;
-
-    struct Oracle {
-        dist: [u32; BENCH_CELLS],
-        heap: [(u32, u32); HEAP_CAP],
-    }
-
-    impl Oracle {
-        const fn new() -> Self {
-            Self {
-                dist: [0; BENCH_CELLS],
-                heap: [(0, 0); HEAP_CAP],
-            }
-        }
-
-        /// Exact optimal octile cost (same integer units) from s to t.
-        fn cost<const NW: usize>(&mut self, g: &Grid<NW>, s: Cell, t: Cell) -> Option<u32> {
-            let w = g.width() as i32;
-            let n = g.cells();
-            for d in self.dist.iter_mut().take(n) {
-                *d = u32::MAX;
-            }
-            let free = |x: i32, y: i32| g.contains(x, y) && !g.is_blocked(x, y);
-            let idx = |x: i32, y: i32| (y * w + x) as usize;
-            let mut len = 0usize;
-            self.dist[idx(s.x as i32, s.y as i32)] = 0;
-            self.push(&mut len, 0, idx(s.x as i32, s.y as i32) as u32);
-            while let Some((d, i)) = self.pop(&mut len) {
-                if d > self.dist[i as usize] {
-                    continue;
-                }
-                let (x, y) = ((i as i32) % w, (i as i32) / w);
-                if (x, y) == (t.x as i32, t.y as i32) {
-                    return Some(d);
-                }
-                for dy in -1..=1 {
-                    for dx in -1..=1 {
-                        if (dx, dy) == (0, 0) || !free(x + dx, y + dy) {
-                            continue;
-                        }
-                        let diag = dx != 0 && dy != 0;
-                        if diag && !(free(x + dx, y) && free(x, y + dy)) {
-                            continue;
-                        }
-                        let nd = d + if diag { COST_DIAGONAL } else { COST_PER_CELL };
-                        let j = idx(x + dx, y + dy);
-                        if nd < self.dist[j] {
-                            self.dist[j] = nd;
-                            if !self.push(&mut len, nd, j as u32) {
-                                fail("oracle heap full");
-                            }
-                        }
-                    }
-                }
-            }
-            None
-        }
-
-        fn push(&mut self, len: &mut usize, d: u32, i: u32) -> bool {
-            if *len >= HEAP_CAP {
-                return false;
-            }
-            let mut k = *len;
-            *len += 1;
-            while k > 0 && self.heap[(k - 1) / 2].0 > d {
-                self.heap[k] = self.heap[(k - 1) / 2];
-                k = (k - 1) / 2;
-            }
-            self.heap[k] = (d, i);
-            true
-        }
-
-        fn pop(&mut self, len: &mut usize) -> Option<(u32, u32)> {
-            if *len == 0 {
-                return None;
-            }
-            let top = self.heap[0];
-            *len -= 1;
-            let last = self.heap[*len];
-            let mut k = 0;
-            loop {
-                let mut c = 2 * k + 1;
-                if c >= *len {
-                    break;
-                }
-                if c + 1 < *len && self.heap[c + 1].0 < self.heap[c].0 {
-                    c += 1;
-                }
-                if self.heap[c].0 < last.0 {
-                    self.heap[k] = self.heap[c];
-                    k = c;
-                } else {
-                    break;
-                }
-            }
-            self.heap[k] = last;
-            Some(top)
-        }
-    }
-
-    /// Path check: 8-connected steps on free cells, no corner cutting.
-    /// Returns the octile cost in integer units.
-    fn check_steps<const NW: usize>(g: &Grid<NW>, p: &[Cell]) -> Option<u32> {
-        let mut cost = 0u32;
-        if p.iter().any(|c| g.is_blocked(c.x as i32, c.y as i32)) {
-            return None;
-        }
-        for w in p.windows(2) {
-            let (dx, dy) = (w[1].x as i32 - w[0].x as i32, w[1].y as i32 - w[0].y as i32);
-            if dx.abs() > 1 || dy.abs() > 1 || (dx, dy) == (0, 0) {
-                return None;
-            }
-            if dx != 0 && dy != 0 {
-                if g.is_blocked(w[0].x as i32 + dx, w[0].y as i32)
-                    || g.is_blocked(w[0].x as i32, w[0].y as i32 + dy)
-                {
-                    return None;
-                }
-                cost += COST_DIAGONAL;
-            } else {
-                cost += COST_PER_CELL;
-            }
-        }
-        Some(cost)
-    }
 
     /// Prunes a path and checks every pruned segment's line of sight.
     fn prune_checked(grid: &BenchGrid, path: &mut [Cell]) -> usize {
@@ -201,154 +76,6 @@ mod emu {
             fail("pruned path crosses an obstacle");
         }
         m
-    }
-
-    /// LD06 bytes of a 3 m square room seen from its centre, parsed on the
-    /// target; odometry updates; one revolution's map update. Checked and
-    /// measured.
-    fn lidar_and_odometry(
-        meter: &Meter,
-        evid: &mut EvidenceMap<{ 64 * 64 }>,
-        asm: &mut ScanAssembler<40>,
-        scan: &mut Scan<40>,
-    ) {
-        // Three revolutions of 36 frames (10° each, 12 samples).
-        let mut parser = Ld06::new();
-        let (mut bytes, mut parse_insn, mut frames, mut revs) = (0u64, 0u64, 0u32, 0u32);
-        let pose = Pose {
-            x_mm: 1500,
-            y_mm: 1500,
-            theta_mrad: 0,
-        };
-        for rev in 0..3u32 {
-            for k in 0..36u32 {
-                let start = (k * 1000) as u16;
-                let pts: [(u16, u8); 12] = core::array::from_fn(|i| {
-                    let cdeg = k as i64 * 1000 + i as i64 * 917 / 11;
-                    let (s, c) = robovac::math::angle::sin_cos_q30(cdeg * 174_533 / 1000);
-                    let m = s.abs().max(c.abs()).max(1);
-                    (((1500i64 << 30) / m) as u16, 200)
-                });
-                let frame = encode(3600, start, start + 917, (rev * 100 + k) as u16, &pts);
-                // One measurement per frame (47 bytes), so the meter's own
-                // cost is spread over the bytes.
-                let (got, insn) = meter.measure(|| {
-                    let mut got = None;
-                    for &b in frame.iter() {
-                        if let Some(f) = parser.feed(b) {
-                            got = Some(f);
-                        }
-                    }
-                    got
-                });
-                parse_insn += insn;
-                bytes += frame.len() as u64;
-                if let Some(f) = got {
-                    frames += 1;
-                    if asm.push(&f, pose, scan) {
-                        revs += 1;
-                    }
-                }
-            }
-        }
-        if frames != 108 || parser.stats().crc_failures != 0 || revs != 2 {
-            fail("lidar parse or scan assembly");
-        }
-        defmt::println!(
-            "lidar: {} bytes parsed into {} frames, {} instructions per byte",
-            bytes,
-            frames,
-            parse_insn / bytes
-        );
-        if evid.reset(64, 64, 50).is_err() {
-            fail("evidence map");
-        }
-        let mount = LidarMount::ld06_centred(false);
-        let (cells, insn) = meter.measure(|| evid.integrate_scan(scan, &mount));
-        let st = |x: i32, y: i32| {
-            let (cx, cy) = evid.cell_of(x, y);
-            evid.state(cx, cy)
-        };
-        if st(1500, 1500) != CellState::Free
-            || st(2000, 1200) != CellState::Free
-            || st(3010, 1500) != CellState::Occupied
-        {
-            fail("map update");
-        }
-        defmt::println!(
-            "map update: one revolution ({} points) ray-cast {} cells in {} instructions",
-            scan.point_count(),
-            cells,
-            insn
-        );
-        // Odometry: 2 m straight then a half turn, 100 Hz updates.
-        let geom = DriveGeometry {
-            ticks_per_rev: 1000,
-            wheel_diameter_um: 72_000,
-            wheelbase_um: 235_000,
-        };
-        let mut odo = Odometry::new(geom);
-        let (mut l, mut r) = (65_000u16, 65_000u16);
-        odo.update(l, r);
-        let (mut total, mut n) = (0u64, 0u64);
-        for _ in 0..885 {
-            l = l.wrapping_add(10);
-            r = r.wrapping_add(10);
-            let (_, insn) = meter.measure(|| odo.update(l, r));
-            total += insn;
-            n += 1;
-        }
-        for _ in 0..(3264 / 2) {
-            l = l.wrapping_sub(1);
-            r = r.wrapping_add(1);
-            let (_, insn) = meter.measure(|| odo.update(l, r));
-            total += insn;
-            n += 1;
-        }
-        let p = odo.pose();
-        if (p.x_mm - 2001).abs() > 2 || p.y_mm.abs() > 2 || (p.theta_mrad.abs() - 3141).abs() > 5 {
-            fail("odometry");
-        }
-        defmt::println!(
-            "odometry: {} updates, {} instructions per update; pose ({} mm, {} mm, {} mrad)",
-            n,
-            total / n,
-            p.x_mm,
-            p.y_mm,
-            p.theta_mrad
-        );
-    }
-
-    /// One DWA cycle on the recorded situation: the same command as on the
-    /// host, and its cost.
-    fn dwa_cycle(meter: &Meter) {
-        use robovac::nav::dwa::{
-            plan, DwaResult, DEFAULT_PARAMS, RECORDED_COMMAND, RECORDED_GOAL, RECORDED_OBSTACLES,
-            RECORDED_VELOCITY, V_SAMPLES, W_SAMPLES,
-        };
-        let (r, insn) = meter.measure(|| {
-            plan(
-                &DEFAULT_PARAMS,
-                RECORDED_VELOCITY.0,
-                RECORDED_VELOCITY.1,
-                RECORDED_GOAL,
-                &RECORDED_OBSTACLES,
-            )
-        });
-        match r {
-            DwaResult::Command {
-                v_mm_s, w_mrad_s, ..
-            } if (v_mm_s, w_mrad_s) == RECORDED_COMMAND => {}
-            _ => fail("DWA command differs from the host's"),
-        }
-        defmt::println!(
-            "DWA: one cycle ({} samples x 20 steps x {} obstacle points) in {} instructions; command ({} mm/s, {} mrad/s)",
-            V_SAMPLES * W_SAMPLES,
-            RECORDED_OBSTACLES.len(),
-            insn,
-            RECORDED_COMMAND.0,
-            RECORDED_COMMAND.1
-        );
     }
 
     fn first_free(g: &BenchGrid) -> Option<Cell> {

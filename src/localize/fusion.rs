@@ -273,8 +273,9 @@ pub fn track<const EV: usize, const MW: usize>(
 
 /// A match with its information measures (the module doc's conditioning).
 pub fn conditioned(pose: PoseU, n: &Normal, points: u32) -> Match {
-    let [a, b, c, d, e, f] = n.h;
-    let _ = (c, e);
+    // h = [xx, xy, xθ, yy, yθ, θθ]: the translational block's eigenvalues
+    // decide the axes; the heading's own information (θθ) its correction.
+    let [a, b, _, d, _, f] = n.h;
     let half_tr = (a + d) / 2;
     let half_diff = (a - d) / 2;
     let disc =

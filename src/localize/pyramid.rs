@@ -111,9 +111,7 @@ impl<const MW: usize> Pyramid<MW> {
     /// `by` from the top (off the level: 0).
     #[inline]
     pub fn share(&self, k: usize, bx: i32, by: i32) -> u32 {
-        self.index(k, bx, by)
-            .and_then(|i| self.words.get(i >> 3).map(|w| (w >> ((i & 7) * 4)) & 15))
-            .unwrap_or(0)
+        self.index(k, bx, by).map_or(0, |i| nibble(&self.words, i))
     }
 
     /// One level's view for tight loops (no per-read dimension lookup).
@@ -156,8 +154,12 @@ impl Level<'_> {
             return 0;
         }
         let i = self.first + (by * self.lw + bx) as usize;
-        self.words
-            .get(i >> 3)
-            .map_or(0, |w| (w >> ((i & 7) * 4)) & 15)
+        nibble(self.words, i)
     }
+}
+
+/// The `i`-th 4-bit share of the packed words (0 past the end).
+#[inline(always)]
+fn nibble(words: &[u32], i: usize) -> u32 {
+    words.get(i >> 3).map_or(0, |w| (w >> ((i & 7) * 4)) & 15)
 }
