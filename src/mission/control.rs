@@ -17,12 +17,6 @@ use crate::nav::geometry::to_robot;
 use crate::nav::guard::{free_distance_slack_mm, limit_speed, GuardParams};
 use crate::robot::odometry::Pose;
 
-/// Points of a mapped wall at touching distance that make an escape (see
-/// [`Mission::escape`]): at real contact a third of the ~30 points facing
-/// the body are that close with the LD06's ±10 mm; beside a wall 10 mm
-/// away, one in thirty.
-const ESCAPE_MAPPED_POINTS: u32 = 4;
-
 /// What the sensing half measured, for the acting half.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Sensed {
@@ -251,30 +245,19 @@ impl Mission {
     /// Escape: touching distance to something (a person stepped in, or
     /// the pose drifted onto a corner). A turn with unequal motors would
     /// edge the body into it, so back straight away from it instead.
-    /// Two unmapped points suffice (a person's legs return few); a wall
-    /// needs [`ESCAPE_MAPPED_POINTS`], because a wall passed 10 mm away
-    /// returns one or two points that far inside in a quarter of the
-    /// revolutions, and each false escape pushed the robot off its line
-    /// (21 000 escape ticks in one mission on a real home, whose
-    /// diagonal way back onto the line then met a corner).
     fn escape(&mut self, pose: &Pose, v: i32, w: i32) -> (i32, i32) {
         let close = (self.cfg.radius_mm + self.cfg.escape_mm) as i64;
         let slack = self.cfg.guard.mapped_slack_mm as i64;
-        let (mut n_mapped, mut n_unmapped, mut sum_x) = (0u32, 0u32, 0i64);
+        let (mut n_close, mut sum_x) = (0i64, 0i64);
         for &(qx, qy, mapped) in self.lidar.ring.as_slice() {
             let (x, y) = to_robot(pose, (qx, qy));
             let c = if mapped { close - slack } else { close };
             if (x as i64).pow(2) + (y as i64).pow(2) < c * c {
-                if mapped {
-                    n_mapped += 1;
-                } else {
-                    n_unmapped += 1;
-                }
+                n_close += 1;
                 sum_x += x as i64;
             }
         }
-        let touching = n_unmapped >= 2 || n_mapped + n_unmapped >= ESCAPE_MAPPED_POINTS;
-        if touching && !matches!(self.phase, Phase::SelfTestWheels { .. }) {
+        if n_close >= 2 && !matches!(self.phase, Phase::SelfTestWheels { .. }) {
             self.counters.escapes += 1;
             return (if sum_x > 0 { -60 } else { 60 }, 0);
         }
