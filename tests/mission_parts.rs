@@ -9,10 +9,10 @@ use robovac::nav::edge::{is_boundary, EdgePass, EdgeStep};
 use robovac::nav::geometry::segment_clear;
 use robovac::nav::guard::{free_distance_mm, limit_speed, GuardParams};
 use robovac::robot::lidar_map::{CellState, EvidenceMap};
-use robovac::SearchState;
+use robovac::search::WindowSearch;
 
 type G = Grid<{ robovac::math::bits::words_for(120 * 100) }>;
-type S = SearchState<{ 120 * 100 }, { robovac::math::bits::words_for(120 * 100) }, 4096>;
+type S = WindowSearch<{ 120 * 100 }, { robovac::math::bits::words_for(120 * 100) }, 4096>;
 
 const GUARD: GuardParams = GuardParams {
     radius_mm: 165,

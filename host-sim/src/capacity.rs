@@ -5,6 +5,7 @@
 //! `robovac::capacity`.
 
 use robovac::math::bits::words_for;
+use robovac::search::WindowSearch;
 use robovac::{Grid, SearchState};
 
 /// Largest map the CLI takes, in cells.
@@ -45,5 +46,18 @@ pub fn new_search() -> Box<HostSearch> {
     // a `#[repr(u8)]` enum whose discriminant 0 is a variant, and structs of
     // those; its documentation guarantees that all-zero bytes are a valid
     // idle state equal to `SearchState::new()`.
+    unsafe { b.assume_init() }
+}
+
+/// The mission's fine searches on the host: the window is the whole map.
+pub type HostWindow = WindowSearch<HOST_CELLS, HOST_WORDS, HOST_OPEN>;
+
+/// A host window search on the heap, without building it on the stack.
+pub fn new_window() -> Box<HostWindow> {
+    let b = Box::<HostWindow>::new_zeroed();
+    // SAFETY: `WindowSearch` is a `Grid` (integers and arrays of them), a
+    // `SearchState` (see `new_search`), a window and goals (integers); its
+    // documentation guarantees that all-zero bytes are the idle state
+    // `WindowSearch::new()`.
     unsafe { b.assume_init() }
 }

@@ -4,7 +4,7 @@
 //! length matches the distance reported, coverage is measured on the
 //! truth, the robot ends at the dock.
 
-use host_sim::run::mission::{run_mission, MissionOptions, MissionReport, MissionTrace};
+use host_sim::run::mission::{run_mission, Capacity, MissionOptions, MissionReport, MissionTrace};
 use host_sim::run::suite::suite_map;
 use host_sim::sim::robot::{Noise, RobotConfig};
 use host_sim::sim::world::World;
@@ -27,6 +27,7 @@ fn opts(map: &str, mode: MapMode, people: usize, noise: Noise, seed: u64) -> Mis
         kidnap_s: None,
         localize: true,
         firmware_order: false,
+        capacity: Capacity::Host,
     }
 }
 
@@ -207,4 +208,23 @@ fn firmware_order_cleans_the_studio() {
     assert!(rep.finished && rep.returned_to_start, "{rep:?}");
     assert!(rep.coverage >= 0.97, "coverage {:.4}", rep.coverage);
     assert_eq!(rep.counters.handoff_dropped, 0);
+}
+
+/// At the chip's capacities (`--capacity fw`: 2.4 m fine search windows,
+/// long ways routed over the whole map in 25 cm blocks) the office, whose
+/// rooms are farther apart than a window, is still cleaned safely and the
+/// robot docks; routes were taken.
+#[test]
+fn firmware_capacity_cleans_the_office() {
+    let mut o = opts("office", MapMode::Known, 0, Noise::None, 1);
+    o.capacity = Capacity::Fw;
+    let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
+    check_truth(&o, &rep, &t);
+    assert!(rep.finished && rep.returned_to_start, "{rep:?}");
+    assert!(rep.coverage >= 0.97, "coverage {:.4}", rep.coverage);
+    assert!(
+        rep.counters.routes > 0,
+        "no route taken: {:?}",
+        rep.counters
+    );
 }

@@ -312,6 +312,9 @@ pub struct Counters {
     pub handoff_dropped: u32,
     /// Events dropped because the caller did not drain the queue.
     pub events_dropped: u32,
+    /// Long ways routed on the planning cells because their ends did not
+    /// fit in one fine search window ([`super::route`]).
+    pub routes: u32,
 }
 
 impl Counters {
@@ -335,6 +338,7 @@ impl Counters {
             plan_steps: 0,
             handoff_dropped: 0,
             events_dropped: 0,
+            routes: 0,
         }
     }
 }

@@ -18,7 +18,7 @@ sized_impl!([] {
     pub(super) fn cover_step(&mut self, now_us: u64, pose: &Pose) {
         self.refresh_coarse();
         self.watch_corridor(now_us, pose);
-        if !self.feed_path() {
+        if !self.feed_path() || !self.feed_route() {
             return;
         }
         self.top_up_cover();
@@ -91,7 +91,11 @@ sized_impl!([] {
     /// Asks the planner for waypoints until a few are queued.
     pub(super) fn top_up_cover(&mut self) {
         let budget = self.m.cfg.node_budget;
-        while self.m.queue.len() < 4 && !self.m.planner_done && self.m.feed.is_none() {
+        while self.m.queue.len() < 4
+            && !self.m.planner_done
+            && self.m.feed.is_none()
+            && !self.m.route.active()
+        {
             match self.p.planner.step(self.p.coarse, budget) {
                 Ok(Step::Move(w)) => {
                     let (x, y) = w.to.xy();
@@ -164,16 +168,23 @@ sized_impl!([] {
         };
         m.counters.detours += 1;
         let search = &mut *self.p.search;
-        if search.begin(self.p.fine, a, &[b], Algo::AStar).is_err() {
-            let _ = m.queue.push(to, cover);
-            return;
+        match search.begin(self.p.fine, a, &[b], Algo::AStar) {
+            Ok(()) => {}
+            Err(SearchError::OutOfWindow) if self.begin_route(from, to, cover) => return,
+            Err(_) => {
+                let _ = self.m.queue.push(to, cover);
+                return;
+            }
         }
+        let m = &mut *self.m;
         m.feed = Some(Feed {
             searching: true,
             len: 0,
             pos: 0,
             cover,
             then: Some(to),
+            from,
+            routable: !m.in_route,
         });
     }
 
@@ -185,7 +196,7 @@ sized_impl!([] {
         };
         if f.searching {
             let search = &mut *self.p.search;
-            match search.resume(self.p.fine, self.m.cfg.node_budget) {
+            match search.resume(self.m.cfg.node_budget) {
                 Ok(Progress::Pending { .. }) => return false,
                 Ok(Progress::Found(_)) => match search.write_path(self.p.path) {
                     Ok(n) => {
@@ -199,8 +210,27 @@ sized_impl!([] {
                         return false;
                     }
                 },
+                Err(SearchError::NoPath) if f.routable && !self.p.search.is_whole() => {
+                    // No way inside the window: a longer way round, on the
+                    // planning cells.
+                    self.m.feed = None;
+                    let to = f.then.unwrap_or(f.from);
+                    if self.begin_route(f.from, to, f.cover) {
+                        if self.m.phase == Phase::ReturnSearch {
+                            self.m.phase = Phase::Return;
+                        }
+                        return false;
+                    }
+                    self.m.counters.skipped += 1;
+                    return true;
+                }
                 Err(SearchError::NoPath) => {
                     self.m.feed = None;
+                    if !f.routable {
+                        // A route's leg found no way: the route is broken;
+                        // its owner plans again from where the robot is.
+                        self.m.route.clear();
+                    }
                     if self.m.phase == Phase::ReturnSearch {
                         // No way home on this map: plan again from a fresh
                         // map (the Return phase counts the tries).

@@ -6,6 +6,7 @@ use crate::nav::cspace;
 use crate::nav::edge::{EdgePass, EdgeStep};
 use crate::nav::geometry::nearest_free_fine_within;
 use crate::robot::odometry::Pose;
+use crate::search::SearchError;
 
 sized_impl!([] {
     pub(super) fn start_edge(&mut self, pose: &Pose) {
@@ -54,6 +55,7 @@ sized_impl!([] {
                     // edge pass again from a fresher map.
                     let m = &mut *self.m;
                     m.edge_tries += 1;
+                    m.route.clear();
                     m.edge = EdgePass::new();
                     m.queue.reset(m.queue.last_end().unwrap_or((0, 0)));
                     m.fine_is_edge = false;
@@ -69,6 +71,19 @@ sized_impl!([] {
                     self.m.phase = Phase::ReturnSearch;
                     let pose = self.m.drive.odom.pose();
                     self.begin_return(&pose);
+                    return;
+                }
+                Err(SearchError::OutOfWindow) => {
+                    // The nearest contour is beyond a search window: go
+                    // there on the planning cells, and walk on from it.
+                    let goal = self.m.edge.far_goal();
+                    let to = cspace::fine_centre_mm(self.p.map, goal.x as i32, goal.y as i32);
+                    let from = self.m.queue.last_end().unwrap_or(to);
+                    if !self.begin_route(from, to, false) {
+                        self.m.edge.give_up_far_goal(self.p.fine);
+                    } else {
+                        self.m.edge.jump_to(goal);
+                    }
                     return;
                 }
                 Err(_) => {

@@ -6,14 +6,14 @@ use super::{Fault, Feed, MapMode, Phase, HOME_TRIES};
 use crate::nav::cspace;
 use crate::nav::geometry::{dist_mm, nearest_free_fine_within};
 use crate::robot::odometry::Pose;
-use crate::search::Algo;
+use crate::search::{Algo, SearchError};
 
 sized_impl!([] {
     /// The way home's step: feed the path; at the end, done when at the
     /// dock, else plan again (a few times) or fail.
     pub(super) fn return_step(&mut self, now_us: u64, pose: &Pose) {
         self.watch_corridor(now_us, pose);
-        if !self.feed_path() {
+        if !self.feed_path() || !self.feed_route() {
             return;
         }
         let m = &mut *self.m;
@@ -30,6 +30,7 @@ sized_impl!([] {
             m.phase = Phase::Align;
         } else if m.home_tries < HOME_TRIES {
             m.home_tries += 1;
+            m.route.clear();
             m.queue.reset((pose.x_mm, pose.y_mm));
             m.fine_is_edge = false;
             self.begin_return(pose);
@@ -69,17 +70,28 @@ sized_impl!([] {
             return;
         }
         let search = &mut *self.p.search;
-        if search.begin(self.p.fine, a, &[b], Algo::AStar).is_err() {
-            m.phase = Phase::Return;
-            m.fine_is_edge = false;
-            return;
+        match search.begin(self.p.fine, a, &[b], Algo::AStar) {
+            Ok(()) => {}
+            Err(SearchError::OutOfWindow) if self.begin_route(from, home, false) => {
+                self.m.phase = Phase::Return;
+                return;
+            }
+            Err(_) => {
+                let m = &mut *self.m;
+                m.phase = Phase::Return;
+                m.fine_is_edge = false;
+                return;
+            }
         }
+        let m = &mut *self.m;
         m.feed = Some(Feed {
             searching: true,
             len: 0,
             pos: 0,
             cover: false,
             then: Some(home),
+            from,
+            routable: true,
         });
     }
 });

@@ -78,13 +78,13 @@
 //! `cover`, `edge`, `home`, `recover` and `avoid` its parts; `lidar` the
 //! lidar event.
 
-/// An impl for buffers of every size: the header with its seven const
+/// An impl for buffers of every size: the header with its eleven const
 /// generics written once. `sized_impl!([Trait for Type] { items })`, or
 /// `sized_impl!([] { items })` for the planning side's methods on
 /// [`Exec`] over [`Parts`].
 macro_rules! sized_impl {
     ([] $($body:tt)*) => {
-        sized_impl!([$crate::mission::Exec<'_, '_, $crate::mission::Parts<'_, N, NW, OPEN, LCAP, PCAP, EV, MW>>] $($body)*);
+        sized_impl!([$crate::mission::Exec<'_, '_, $crate::mission::Parts<'_, N, NW, OPEN, LCAP, PCAP, SN, SNW, SOPEN, FW, EV, MW>>] $($body)*);
     };
     ([$($head:tt)*] { $($body:tt)* }) => {
         impl<
@@ -93,6 +93,10 @@ macro_rules! sized_impl {
                 const OPEN: usize,
                 const LCAP: usize,
                 const PCAP: usize,
+                const SN: usize,
+                const SNW: usize,
+                const SOPEN: usize,
+                const FW: usize,
                 const EV: usize,
                 const MW: usize,
             > $($head)*
@@ -112,6 +116,7 @@ mod lidar;
 mod locate;
 mod plan;
 mod recover;
+mod route;
 
 pub mod config;
 pub mod events;
@@ -123,7 +128,7 @@ pub use config::{
 };
 pub use events::{Capacity, Event, EventKind, EVENTS};
 pub use handoff::HANDOFF;
-pub use parts::{MissionParts, Parts};
+pub use parts::{MissionParts, Parts, PlannerView};
 
 use crate::localize::Fusion;
 use crate::nav::edge::EdgePass;
@@ -177,6 +182,11 @@ struct Feed {
     cover: bool,
     /// The exact end point to queue after the path's cells.
     then: Option<(i32, i32)>,
+    /// Where the path starts, and whether a search that finds no way
+    /// inside its window (not the whole map) may take a route on the
+    /// planning cells instead ([`route`]; not for a route's own legs).
+    from: (i32, i32),
+    routable: bool,
 }
 
 /// The control path's own state: wheels, encoders and their timing.
@@ -230,6 +240,10 @@ pub struct Mission {
     edge: EdgePass,
     planner_done: bool,
     feed: Option<Feed>,
+    /// A long way being fed leg by leg ([`route`]).
+    route: route::Route,
+    /// The route is feeding a leg (its detours take no route of their own).
+    in_route: bool,
     map_dirty: bool,
     fine_stale: bool,
     fine_is_edge: bool,
@@ -298,6 +312,8 @@ impl Mission {
             edge: EdgePass::new(),
             planner_done: false,
             feed: None,
+            route: route::Route::new(),
+            in_route: false,
             map_dirty: false,
             fine_stale: true,
             fine_is_edge: false,
@@ -320,7 +336,7 @@ impl Mission {
     /// Starts a mission at `start` (world mm, mrad: the dock's place on
     /// the map). Known mode: `parts.map` already holds the prior map.
     /// Unknown mode: the caller has sized `parts.map` (all unknown).
-    pub fn begin(&mut self, parts: &mut impl MissionParts, start: Pose) {
+    pub fn begin(&mut self, parts: &mut (impl MissionParts + ?Sized), start: Pose) {
         parts.begin(self, start);
     }
 
@@ -328,7 +344,12 @@ impl Mission {
     /// time). Per byte the parser; per frame 12 points into the ring; per
     /// revolution (unknown mode, or known mode with map updates) one
     /// ray-cast update of the evidence map.
-    pub fn feed_lidar(&mut self, parts: &mut impl MissionParts, bytes: &[u8], now_us: u64) {
+    pub fn feed_lidar(
+        &mut self,
+        parts: &mut (impl MissionParts + ?Sized),
+        bytes: &[u8],
+        now_us: u64,
+    ) {
         parts.feed_lidar(self, bytes, now_us);
     }
 
@@ -353,7 +374,7 @@ impl Mission {
     /// The background entry point: one planning step when due (else
     /// nothing). Replays what control handed off, then searches (at most
     /// `node_budget` nodes), runs DWA, keeps the maps and decides.
-    pub fn plan(&mut self, parts: &mut impl MissionParts, now_us: u64) {
+    pub fn plan(&mut self, parts: &mut (impl MissionParts + ?Sized), now_us: u64) {
         if self.plan_due(now_us) {
             parts.plan(self, now_us);
             self.events.track(now_us, self.state());
@@ -366,7 +387,7 @@ impl Mission {
     /// that the plan's decision reaches this period's command.
     pub fn tick(
         &mut self,
-        parts: &mut impl MissionParts,
+        parts: &mut (impl MissionParts + ?Sized),
         now_us: u64,
         enc: (u16, u16),
     ) -> MotorCmd {

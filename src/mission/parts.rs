@@ -1,14 +1,14 @@
 //! The big buffers the executive works in, owned by the caller, and the
 //! [`MissionParts`] trait through which the entry points take them, so an
-//! entry point names one type parameter instead of seven const generics.
+//! entry point names one type parameter instead of eleven const generics.
 
 use super::{Exec, Mission};
-use crate::coverage::Coverage;
-use crate::grid::{Cell, Grid};
+use crate::coverage::{Coverage, PlanStats};
+use crate::grid::{Cell, Grid, Layer};
 use crate::localize::ScanMatcher;
 use crate::robot::lidar_map::EvidenceMap;
 use crate::robot::odometry::Pose;
-use crate::search::SearchState;
+use crate::search::WindowSearch;
 
 /// The big buffers the executive works in, owned by the caller (statics
 /// on the robot, heap boxes on the host).
@@ -19,18 +19,23 @@ pub struct Parts<
     const OPEN: usize,
     const LCAP: usize,
     const PCAP: usize,
+    const SN: usize,
+    const SNW: usize,
+    const SOPEN: usize,
+    const FW: usize,
     const EV: usize,
     const MW: usize,
 > {
-    /// The coverage planner.
+    /// The coverage planner (on the planning cells).
     pub planner: &'a mut Coverage<N, NW, OPEN, LCAP, PCAP>,
     /// The fine-grid searches' state (detours, edge transits, the way
-    /// home), separate from the planner's so neither clobbers the other.
-    pub search: &'a mut SearchState<N, NW, OPEN>,
+    /// home), separate from the planner's so neither clobbers the other;
+    /// bounded to a window of `SN` fine cells.
+    pub search: &'a mut WindowSearch<SN, SNW, SOPEN>,
     /// Planning cells.
     pub coarse: &'a mut Grid<NW>,
     /// The fine configuration space (the evidence map's cells).
-    pub fine: &'a mut Grid<NW>,
+    pub fine: &'a mut Grid<FW>,
     /// The evidence map (known mode: filled with the prior map).
     pub map: &'a mut EvidenceMap<EV>,
     /// Fine path buffer (detours, edge transits, the way home).
@@ -49,9 +54,27 @@ pub trait MissionParts {
     fn feed_lidar(&mut self, m: &mut Mission, bytes: &[u8], now_us: u64);
     /// See [`Mission::plan`].
     fn plan(&mut self, m: &mut Mission, now_us: u64);
+    /// For diagnosis: the coverage planner's counters and position.
+    fn planner_view(&self) -> PlannerView;
+    /// For diagnosis: planning cell (x, y) as (blocked, covered); `None`
+    /// off the planning grid.
+    fn planning_cell(&self, x: i32, y: i32) -> Option<(bool, bool)>;
 }
 
-sized_impl!([MissionParts for Parts<'_, N, NW, OPEN, LCAP, PCAP, EV, MW>] {
+/// For diagnosis: what the coverage planner is doing.
+#[derive(Clone, Copy, Debug)]
+pub struct PlannerView {
+    /// Its counters.
+    pub stats: PlanStats,
+    /// Search nodes of its last step.
+    pub last_step_nodes: u32,
+    /// Where it stands.
+    pub position: Cell,
+    /// Points on its backtracking list.
+    pub list_len: usize,
+}
+
+sized_impl!([MissionParts for Parts<'_, N, NW, OPEN, LCAP, PCAP, SN, SNW, SOPEN, FW, EV, MW>] {
     fn begin(&mut self, m: &mut Mission, start: Pose) {
         Exec { m, p: self }.begin(start);
     }
@@ -62,5 +85,20 @@ sized_impl!([MissionParts for Parts<'_, N, NW, OPEN, LCAP, PCAP, EV, MW>] {
 
     fn plan(&mut self, m: &mut Mission, now_us: u64) {
         Exec { m, p: self }.plan(now_us);
+    }
+
+    fn planner_view(&self) -> PlannerView {
+        PlannerView {
+            stats: self.planner.stats(),
+            last_step_nodes: self.planner.last_step_nodes(),
+            position: self.planner.position(),
+            list_len: self.planner.backtrack_list().len(),
+        }
+    }
+
+    fn planning_cell(&self, x: i32, y: i32) -> Option<(bool, bool)> {
+        let g = &*self.coarse;
+        g.contains(x, y)
+            .then(|| (g.is_blocked(x, y), g.get(Layer::Covered, x, y)))
     }
 });

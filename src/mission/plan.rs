@@ -65,7 +65,7 @@ sized_impl!([] {
             Phase::Cover => self.cover_step(now_us, pose),
             Phase::Edge => {
                 self.watch_corridor(now_us, pose);
-                if self.feed_path() {
+                if self.feed_path() && self.feed_route() {
                     self.top_up_edge();
                 }
             }
@@ -84,6 +84,7 @@ sized_impl!([] {
         }
         m.counters.battery_returns += 1;
         m.feed = None;
+        m.route.clear();
         m.activity = Activity::Follow;
         m.queue.reset((pose.x_mm, pose.y_mm));
         m.fine_is_edge = false;

@@ -22,7 +22,7 @@
 //! goals, or `budget` search nodes.
 
 use crate::grid::{Cell, Grid, Layer};
-use crate::search::{Algo, Progress, SearchError, SearchState};
+use crate::search::{Algo, Progress, SearchError, WindowSearch};
 
 /// Goals per transit search.
 pub const EDGE_GOALS: usize = 16;
@@ -83,6 +83,7 @@ pub struct EdgePass {
     dir: (i32, i32),
     path_len: usize,
     path_pos: usize,
+    far_goal: Cell,
     /// Counters.
     pub stats: EdgeStats,
 }
@@ -114,6 +115,7 @@ impl EdgePass {
             dir: (0, 0),
             path_len: 0,
             path_pos: 0,
+            far_goal: Cell::new(0, 0),
             stats: EdgeStats {
                 visited: 0,
                 transits: 0,
@@ -138,6 +140,29 @@ impl EdgePass {
     /// The last cell emitted.
     pub fn position(&self) -> Cell {
         self.last
+    }
+
+    /// The nearest unvisited boundary cell of the last walk's end: after
+    /// [`SearchError::OutOfWindow`], where the caller should take the
+    /// robot by a longer way before [`EdgePass::jump_to`].
+    pub fn far_goal(&self) -> Cell {
+        self.far_goal
+    }
+
+    /// Goes on from `at` (the caller took the robot there).
+    pub fn jump_to(&mut self, at: Cell) {
+        if self.phase != Phase::Done {
+            self.phase = Phase::Walk;
+            self.last = at;
+            self.dir = (0, 0);
+        }
+    }
+
+    /// Marks the far goal visited (no longer way to it was found).
+    pub fn give_up_far_goal<const GW: usize>(&mut self, fine: &mut Grid<GW>) {
+        let (x, y) = self.far_goal.xy();
+        let _ = fine.set(Layer::Covered, x, y, true);
+        self.stats.unreachable += 1;
     }
 
     /// Abandons a search or transit under way (the caller used the shared
@@ -203,7 +228,7 @@ impl EdgePass {
     pub fn step<const N: usize, const NW: usize, const OPEN: usize, const GW: usize>(
         &mut self,
         fine: &mut Grid<GW>,
-        search: &mut SearchState<N, NW, OPEN>,
+        search: &mut WindowSearch<N, NW, OPEN>,
         path: &mut [Cell],
         budget: u32,
     ) -> Result<EdgeStep, SearchError> {
@@ -219,7 +244,7 @@ impl EdgePass {
                     self.fill_done(fine);
                 }
                 Phase::Walk => return self.walk(fine, search),
-                Phase::Search => match search.resume(fine, budget) {
+                Phase::Search => match search.resume(budget) {
                     Ok(Progress::Pending { .. }) => return Ok(EdgeStep::Pending),
                     Ok(Progress::Found(_)) => {
                         self.path_len = search.write_path(path)?;
@@ -281,7 +306,7 @@ impl EdgePass {
     fn walk<const N: usize, const NW: usize, const OPEN: usize, const GW: usize>(
         &mut self,
         fine: &mut Grid<GW>,
-        search: &mut SearchState<N, NW, OPEN>,
+        search: &mut WindowSearch<N, NW, OPEN>,
     ) -> Result<EdgeStep, SearchError> {
         if let Some(next) = self.next_on_contour(fine) {
             let (x, y) = next.xy();
@@ -301,7 +326,11 @@ impl EdgePass {
             self.phase = Phase::Done;
             return Ok(EdgeStep::Done);
         }
-        search.begin(fine, self.last, goals.get(..n).unwrap_or(&[]), Algo::AStar)?;
+        self.far_goal = goals.first().copied().unwrap_or(self.last);
+        if let Err(e) = search.begin(fine, self.last, goals.get(..n).unwrap_or(&[]), Algo::AStar) {
+            self.phase = Phase::Walk;
+            return Err(e);
+        }
         self.stats.transits += 1;
         Ok(EdgeStep::Pending)
     }

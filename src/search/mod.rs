@@ -11,5 +11,7 @@ pub mod prune;
 pub mod run;
 pub mod state;
 pub mod theta;
+pub mod window;
 
 pub use state::{Algo, Progress, SearchError, SearchState, SearchStats, MAX_GOALS, NEIGHBOURS};
+pub use window::WindowSearch;

@@ -55,6 +55,9 @@ pub enum SearchError {
     NotRunning,
     /// The output buffer is shorter than the path.
     PathBufferTooSmall,
+    /// No goal lies in a search window around the start
+    /// ([`super::window::WindowSearch`]): route on a coarser grid first.
+    OutOfWindow,
 }
 
 impl SearchError {
@@ -73,6 +76,7 @@ impl SearchError {
             SearchError::MapChanged => "map was resized during the search",
             SearchError::NotRunning => "no search is running",
             SearchError::PathBufferTooSmall => "path buffer too small",
+            SearchError::OutOfWindow => "no goal within the search window",
         }
     }
 }

@@ -32,6 +32,7 @@ fn cmd_demo() -> Result<(), String> {
         kidnap_s: None,
         localize: true,
         firmware_order: false,
+        capacity: Default::default(),
     };
     println!(
         "robovac demo: the firmware's mission executive cleans a 9.6 m × 7.2 m furnished flat"

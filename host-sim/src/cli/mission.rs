@@ -52,6 +52,10 @@ pub struct Args {
     /// Odometry alone: no scan matching (for comparison).
     #[arg(long)]
     pub no_localize: bool,
+    /// Whose buffers the executive runs in: the host's, or the firmware's
+    /// (`fw`: the chip's capacities, so the figures are the robot's).
+    #[arg(long, value_enum, default_value_t)]
+    pub capacity: host_sim::run::parts::Capacity,
 }
 
 /// Runs the command.
@@ -72,6 +76,7 @@ pub fn run(a: Args) -> Result<(), String> {
         firmware_order,
         kidnap,
         no_localize,
+        capacity,
     } = a;
     if kidnap.is_some_and(|t| !(t.is_finite() && t >= 0.0)) {
         return Err("--kidnap must be a time in seconds, 0 or more".into());
@@ -97,6 +102,7 @@ pub fn run(a: Args) -> Result<(), String> {
         kidnap_s: kidnap,
         localize: !no_localize,
         firmware_order,
+        capacity,
     };
     cmd_mission(
         &opts,

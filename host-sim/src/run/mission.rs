@@ -8,19 +8,19 @@ use std::time::Instant;
 use super::mission_debug::{debug_collision, debug_grid, debug_tick};
 
 use robovac::coverage::PlannerKind;
-use robovac::mission::{MapMode, Mission, MissionConfig, MotorCmd, Parts, State};
+use robovac::mission::{MapMode, Mission, MissionConfig, MissionParts, MotorCmd, State};
 use robovac::robot::hal::{ByteSource, MotorDriver};
-use robovac::robot::lidar_map::EvidenceMap;
-use robovac::Cell;
 
-use crate::capacity::{new_grid, HostGrid, HOST_EVIDENCE};
 use crate::io::maps::MapData;
 use crate::sim::floor::Floor;
 use crate::sim::robot::{Noise, RobotConfig, Sim, MOUNT};
+use crate::sim::scan::fill_prior;
 use crate::sim::world::World;
 
 pub use super::dock::{default_start, docked_pose};
 use super::dock::{given_dock, place_dock};
+pub use super::parts::Capacity;
+use super::parts::{FwHostParts, HostParts};
 
 /// Evidence (and fine planning) cell side, mm.
 pub const EVIDENCE_MM: u32 = 50;
@@ -60,6 +60,8 @@ pub struct MissionOptions {
     /// period later. Off: the lock-step `tick` (plan between sensing and
     /// acting), the order every reported figure was measured in.
     pub firmware_order: bool,
+    /// Whose buffers the executive runs in.
+    pub capacity: Capacity,
 }
 
 /// What a mission measured (its JSON: these fields, plus `sim_speed` and
@@ -156,38 +158,11 @@ pub struct MissionTrace {
     pub kidnap: Option<(f64, (f64, f64, f64))>,
 }
 
-/// The host's planning buffers.
-pub struct HostParts {
-    planner: Box<crate::run::plan::HostCoverage>,
-    search: Box<crate::capacity::HostSearch>,
-    coarse: Box<HostGrid>,
-    fine: Box<HostGrid>,
-    /// The evidence map.
-    pub map: Box<EvidenceMap<HOST_EVIDENCE>>,
-    path: Vec<Cell>,
-    matcher: Box<crate::capacity::HostMatcher>,
-}
-
-impl HostParts {
-    /// Fresh buffers.
-    pub fn new(kind: PlannerKind) -> Self {
-        Self {
-            planner: crate::run::plan::new_planner(kind),
-            search: crate::capacity::new_search(),
-            coarse: new_grid(),
-            fine: new_grid(),
-            map: Box::new(EvidenceMap::new()),
-            path: vec![Cell::default(); 1 << 18],
-            matcher: Box::new(crate::capacity::HostMatcher::new()),
-        }
-    }
-}
-
 /// Runs a mission; `progress(sim_s, state, coverage)` is called about
 /// every simulated 10 s.
 pub fn run_mission(
     opts: &MissionOptions,
-    mut progress: impl FnMut(f64, State, f64),
+    progress: impl FnMut(f64, State, f64),
 ) -> Result<(MissionReport, MissionTrace, Floor), String> {
     let t0 = Instant::now();
     let cfg = RobotConfig::default();
@@ -198,20 +173,53 @@ pub fn run_mission(
     let pose = (start.0, start.1, heading);
     let mut sim = Sim::new(cfg.clone(), world, pose, opts.noise, opts.seed);
     let mut floor = Floor::new(&sim.world, start, r, 0.05);
-    let mut hp = HostParts::new(opts.kind);
-    prior_map(&mut hp, &sim.world, opts.mode)?;
     let mut mission = Box::new(Mission::new(mission_config(opts, &cfg, r)));
-    let mut parts = Parts {
-        planner: &mut hp.planner,
-        search: &mut hp.search,
-        coarse: &mut hp.coarse,
-        fine: &mut hp.fine,
-        map: &mut hp.map,
-        path: &mut hp.path,
-        matcher: &mut hp.matcher,
+    let known = opts.mode == MapMode::Known;
+    // The buffers of the capacity asked for, lent to the executive.
+    let (mut hp, mut fp, mut host, mut fw);
+    let parts: &mut dyn MissionParts = match opts.capacity {
+        Capacity::Host => {
+            hp = HostParts::new(opts.kind);
+            fill_prior(&mut hp.map, &sim.world, EVIDENCE_MM, known)?;
+            host = hp.parts();
+            &mut host
+        }
+        Capacity::Fw => {
+            fp = FwHostParts::new(opts.kind);
+            fill_prior(&mut fp.map, &sim.world, EVIDENCE_MM, known)?;
+            fw = fp.parts();
+            &mut fw
+        }
     };
-    mission.begin(&mut parts, given_dock(opts, pose));
-    debug_grid(&parts, false);
+    let (rep, trace) = drive(
+        opts,
+        &mut sim,
+        &mut floor,
+        &mut mission,
+        parts,
+        pose,
+        progress,
+    );
+    let mut rep = rep;
+    rep.wall_time_s = t0.elapsed().as_secs_f64();
+    Ok((rep, trace, floor))
+}
+
+/// The mission's loop on the buffers given, until it ends or time is up.
+fn drive(
+    opts: &MissionOptions,
+    sim: &mut Sim,
+    floor: &mut Floor,
+    mission: &mut Mission,
+    parts: &mut dyn MissionParts,
+    pose: (f64, f64, f64),
+    mut progress: impl FnMut(f64, State, f64),
+) -> (MissionReport, MissionTrace) {
+    let cfg = sim.cfg.clone();
+    let r = cfg.diameter_m / 2.0;
+    let start = (pose.0, pose.1);
+    mission.begin(parts, given_dock(opts, pose));
+    debug_grid(parts, false);
     let mut rep = MissionReport {
         min_clearance_m: f64::INFINITY,
         min_wall_clearance_m: f64::INFINITY,
@@ -231,17 +239,17 @@ pub fn run_mission(
             kidnap_us = None;
             trace.kidnap = sim.kidnap().map(|p| (sim.t_us as f64 * 1e-6, p));
         }
-        control_period(&mut sim, &mut mission, &mut parts, opts);
+        control_period(sim, mission, parts, opts);
         while let Some(e) = mission.pop_event() {
             trace.events.push(e);
         }
         if trace_on && sim.collisions.len() > seen_collisions {
             seen_collisions = sim.collisions.len();
-            debug_collision(&sim, &mission);
+            debug_collision(sim, mission);
         }
-        measure(&sim, &mission, &mut floor, &mut rep, &mut trace, r);
+        measure(sim, mission, floor, &mut rep, &mut trace, r);
         if trace_on && sim.t_us.is_multiple_of(1_000_000) {
-            debug_tick(&sim, &mission, &parts);
+            debug_tick(sim, mission, parts);
         }
         if sim.t_us >= next_progress {
             next_progress += 10_000_000;
@@ -249,8 +257,8 @@ pub fn run_mission(
         }
     }
     progress(sim.t_us as f64 * 1e-6, mission.state(), floor.coverage());
-    debug_grid(&parts, true);
-    finish_report(&mut rep, &mission, &sim, &floor, pose, &cfg);
+    debug_grid(parts, true);
+    finish_report(&mut rep, mission, sim, floor, pose, &cfg);
     trace.truth = std::mem::take(&mut sim.trajectory);
     trace.people = sim.world.people.iter().map(|p| p.track.clone()).collect();
     trace.collisions = sim
@@ -258,21 +266,8 @@ pub fn run_mission(
         .iter()
         .map(|c| (c.pos, c.by_person))
         .collect();
-    rep.wall_time_s = t0.elapsed().as_secs_f64();
-    Ok((rep, trace, floor))
+    (rep, trace)
 }
-
-/// The host's buffers lent to the executive.
-pub(crate) type HostMissionParts<'a> = Parts<
-    'a,
-    { crate::capacity::HOST_CELLS },
-    { crate::capacity::HOST_WORDS },
-    { crate::capacity::HOST_OPEN },
-    { crate::capacity::HOST_LCAP },
-    { crate::capacity::HOST_PCAP },
-    HOST_EVIDENCE,
-    { crate::capacity::HOST_MATCH_WORDS },
->;
 
 /// The executive's configuration for this robot. Its margins follow its
 /// lidar's range noise (the firmware is configured for its sensor; the
@@ -288,18 +283,12 @@ fn mission_config(opts: &MissionOptions, cfg: &RobotConfig, r: f64) -> MissionCo
     mcfg
 }
 
-/// Sizes the evidence map to the world; known mode fills it with the floor
-/// plan.
-fn prior_map(hp: &mut HostParts, world: &World, mode: MapMode) -> Result<(), String> {
-    crate::sim::scan::fill_prior(&mut hp.map, world, EVIDENCE_MM, mode == MapMode::Known)
-}
-
 /// One control period: physics, the lidar bytes that arrived (unless in
 /// the requested gap), then the executive's tick and the motors.
 fn control_period(
     sim: &mut Sim,
     mission: &mut Mission,
-    parts: &mut HostMissionParts<'_>,
+    parts: &mut dyn MissionParts,
     opts: &MissionOptions,
 ) {
     let steps = sim.cfg.control_period_us / sim.cfg.physics_step_us;
@@ -482,6 +471,14 @@ struct CountersJson {
     retried: u32,
     scans: u32,
     plan_steps: u32,
+    /// Long ways routed on the planning cells (only at the firmware's
+    /// capacity; left out when 0).
+    #[serde(skip_serializing_if = "is_zero")]
+    routes: u32,
+}
+
+fn is_zero(n: &u32) -> bool {
+    *n == 0
 }
 
 fn counters_json<S: serde::Serializer>(
@@ -499,6 +496,7 @@ fn counters_json<S: serde::Serializer>(
             retried: c.retried,
             scans: c.scans,
             plan_steps: c.plan_steps,
+            routes: c.routes,
         },
         s,
     )

@@ -1,34 +1,32 @@
 //! `ROBOVAC_DEBUG_GRID` and `ROBOVAC_DEBUG_TRACE`: what a mission shows on
 //! stderr for diagnosis (nothing unless the variable is set).
 
-use robovac::mission::Mission;
+use robovac::mission::{Mission, MissionParts};
 
-use super::mission::HostMissionParts;
 use crate::sim::robot::Sim;
 
 /// `ROBOVAC_DEBUG_GRID`: the planning grid on stderr (`covered`: with the
 /// covered cells and the planner's counters).
-pub fn debug_grid(parts: &HostMissionParts<'_>, covered: bool) {
+pub fn debug_grid(parts: &dyn MissionParts, covered: bool) {
     if std::env::var_os("ROBOVAC_DEBUG_GRID").is_none() {
         return;
     }
-    let g = &*parts.coarse;
-    for y in 0..g.height() as i32 {
-        let row: String = (0..g.width() as i32)
-            .map(|x| {
-                if g.is_blocked(x, y) {
-                    '#'
-                } else if covered && g.get(robovac::grid::Layer::Covered, x, y) {
-                    'c'
-                } else {
-                    '.'
-                }
+    for y in 0.. {
+        if parts.planning_cell(0, y).is_none() {
+            break;
+        }
+        let row: String = (0..)
+            .map_while(|x| parts.planning_cell(x, y))
+            .map(|cell| match cell {
+                (true, _) => '#',
+                (false, true) if covered => 'c',
+                _ => '.',
             })
             .collect();
         eprintln!("{row}");
     }
     if covered {
-        eprintln!("{:?}", parts.planner.stats());
+        eprintln!("{:?}", parts.planner_view().stats);
     }
 }
 
@@ -58,7 +56,7 @@ pub fn debug_collision(sim: &Sim, mission: &Mission) {
 }
 
 /// `ROBOVAC_DEBUG_TRACE`: the executive's view every simulated second.
-pub fn debug_tick(sim: &Sim, mission: &Mission, parts: &HostMissionParts<'_>) {
+pub fn debug_tick(sim: &Sim, mission: &Mission, parts: &dyn MissionParts) {
     let (x, y, th) = sim.pose;
     eprintln!(
         "t {:.0} {:?} {:?} truth ({:.2},{:.2},{:.2}) dwa {:?} front {:?} {:?}",
@@ -84,11 +82,9 @@ pub fn debug_tick(sim: &Sim, mission: &Mission, parts: &HostMissionParts<'_>) {
         mission.loc_stats(),
         mission.points_near(260).take(4).collect::<Vec<_>>()
     );
+    let v = parts.planner_view();
     eprintln!(
         "   planner nodes {} {:?} pos {:?} list {}",
-        parts.planner.last_step_nodes(),
-        parts.planner.stats(),
-        parts.planner.position(),
-        parts.planner.backtrack_list().len()
+        v.last_step_nodes, v.stats, v.position, v.list_len
     );
 }

@@ -6,5 +6,6 @@ pub mod dock;
 pub mod drive;
 pub mod mission;
 pub mod mission_debug;
+pub mod parts;
 pub mod plan;
 pub mod suite;

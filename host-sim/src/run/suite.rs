@@ -140,6 +140,7 @@ pub fn run_suite(
                 kidnap_s: None,
                 localize: true,
                 firmware_order: false,
+                capacity: Default::default(),
             };
             run_mission(&opts, |_, _, _| {}).map(|(rep, _, _)| rep)
         });

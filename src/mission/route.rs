@@ -1,0 +1,131 @@
+//! Long ways on the planning grid (issue 11 §3). The fine searches run in
+//! a bounded window ([`crate::search::WindowSearch`]); when the two ends
+//! of a detour, an edge-pass transit or the way home lie farther apart
+//! than a window holds, or the window holds no way between them, the way
+//! is first found on the whole fine map seen in blocks
+//! ([`crate::search::WindowSearch::begin_blocks`]: 5 × 5 cells, 25 cm, for
+//! the firmware's 12 m home in its 48 × 48 window). Not on the planning
+//! cells: two of them on either side of a thin wall are neighbours there.
+//! The blocks' centres are thinned greedily to the farthest one in plain
+//! reach on the fine map, and fed one by one
+//! through the executive's `enqueue`, which checks each leg again and
+//! detours inside a window where something is in the way. At the host's
+//! capacities every window is the whole map, so no route is ever taken.
+//!
+//! Overflow policy: a route holds [`ROUTE`] waypoints; one that needs
+//! more is not taken (the caller falls back as for a failed search). A
+//! leg that finds no way drops the rest of its route; its owner (the
+//! planner, the edge pass, the way home) plans again from where the robot
+//! is.
+
+use crate::nav::cspace;
+use crate::nav::geometry::{nearest_free_fine, segment_clear};
+use crate::search::{Algo, Progress};
+use heapless::Vec;
+
+/// Waypoints a route holds.
+pub const ROUTE: usize = 64;
+
+/// A route being fed: waypoints (world mm) and whether they clean.
+#[derive(Clone, Debug, Default)]
+pub struct Route {
+    wps: Vec<(i32, i32), ROUTE>,
+    pos: usize,
+    cover: bool,
+}
+
+impl Route {
+    /// An empty route.
+    pub const fn new() -> Self {
+        Self {
+            wps: Vec::new(),
+            pos: 0,
+            cover: false,
+        }
+    }
+
+    /// True while waypoints are left to feed.
+    pub fn active(&self) -> bool {
+        self.pos < self.wps.len()
+    }
+
+    /// Drops what is left.
+    pub fn clear(&mut self) {
+        self.wps.clear();
+        self.pos = 0;
+    }
+}
+
+sized_impl!([] {
+    /// Plans a route from `from` to `to` (world mm) on the planning cells
+    /// and starts feeding it. False when there is none (the caller falls
+    /// back as it would for a fine search that failed).
+    pub(super) fn begin_route(&mut self, from: (i32, i32), to: (i32, i32), cover: bool) -> bool {
+        let a = nearest_free_fine(self.p.map, self.p.fine, from);
+        let b = nearest_free_fine(self.p.map, self.p.fine, to);
+        let (Some(a), Some(b)) = (a, b) else {
+            return false;
+        };
+        let budget = self.m.cfg.node_budget;
+        let search = &mut *self.p.search;
+        if search.begin_blocks(self.p.fine, a, b, Algo::AStar).is_err()
+            || !matches!(search.resume(budget), Ok(Progress::Found(_)))
+        {
+            return false;
+        }
+        let Ok(n) = search.write_path(self.p.path) else {
+            return false;
+        };
+        let Some(route) = self.thin_route(from, to, n, cover) else {
+            return false;
+        };
+        self.m.route = route;
+        self.m.counters.routes += 1;
+        true
+    }
+
+    /// The route's waypoints: from `from`, greedily the farthest later
+    /// point (the anchors of the `n` planning cells in `self.p.path`, then
+    /// `to`) in plain reach on the fine map, as the queue checks it; a
+    /// point with none in reach goes on to the next one, and its leg is
+    /// detoured inside a window. `None` when they overflow [`ROUTE`].
+    fn thin_route(&self, from: (i32, i32), to: (i32, i32), n: usize, cover: bool) -> Option<Route> {
+        // A full margin (the queue checks half): a greedy leg otherwise
+        // grazes the wall it turns around, closer than the guard allows.
+        let r = (self.m.cfg.radius_mm + self.m.cfg.margin_mm) as i64;
+        let point = |i: usize| match self.p.path.get(i).filter(|_| i < n) {
+            Some(c) => cspace::fine_centre_mm(self.p.map, c.x as i32, c.y as i32),
+            None => to,
+        };
+        let mut route = Route::new();
+        route.cover = cover;
+        let (mut at, mut k) = (from, 0usize);
+        while k <= n {
+            let next = (k + 1..=n)
+                .rev()
+                .find(|&i| segment_clear(self.p.map, at, point(i), r))
+                .unwrap_or(k);
+            at = point(next);
+            route.wps.push(at).ok()?;
+            k = next + 1;
+        }
+        Some(route)
+    }
+
+    /// Feeds the route's next legs while no fine path is being fed. True
+    /// when nothing is left.
+    pub(super) fn feed_route(&mut self) -> bool {
+        while self.m.route.active() && self.m.feed.is_none() && self.m.queue.len() + 2 < super::QUEUE {
+            let r = &mut self.m.route;
+            let Some(&p) = r.wps.get(r.pos) else {
+                break;
+            };
+            r.pos += 1;
+            let cover = r.cover;
+            self.m.in_route = true;
+            self.enqueue(p, cover);
+            self.m.in_route = false;
+        }
+        !self.m.route.active() && self.m.feed.is_none()
+    }
+});
