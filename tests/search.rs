@@ -292,3 +292,29 @@ fn oha_fewer_nodes_and_pruned_cost_no_higher() {
         total.0
     );
 }
+
+/// The ASCII loader: CRLF line ends, blank lines around the map and a
+/// missing final newline read as plain lines; ragged rows and strange
+/// characters are typed errors.
+#[test]
+fn ascii_maps_accept_crlf_and_blank_lines() {
+    let mut a = TGrid::new();
+    let mut b = TGrid::new();
+    a.load_ascii("\n.#.\r\n#..\r\r\n\n").unwrap();
+    b.load_ascii(".#.\n#..").unwrap();
+    assert_eq!((a.width(), a.height()), (3, 2));
+    for y in 0..2 {
+        for x in 0..3 {
+            assert_eq!(a.is_blocked(x, y), b.is_blocked(x, y));
+        }
+    }
+    assert!(a.is_blocked(1, 0) && a.is_blocked(0, 1) && !a.is_blocked(2, 1));
+    assert!(matches!(
+        a.load_ascii("..\n...\n"),
+        Err(robovac::grid::GridError::RaggedRows { row: 1 })
+    ));
+    assert!(matches!(
+        a.load_ascii("..\n.x\n"),
+        Err(robovac::grid::GridError::BadChar { row: 1, col: 1 })
+    ));
+}

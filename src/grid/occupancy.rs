@@ -282,9 +282,12 @@ impl<const NW: usize> Grid<NW> {
     /// Loads an ASCII map: one line per row, `#` blocked, `.` free. Blank
     /// leading/trailing lines and trailing `\r` are ignored.
     pub fn load_ascii(&mut self, text: &str) -> Result<(), GridError> {
+        // Bytes split on `\n` (the maps are ASCII): no `str` slicing, so
+        // no bounds check that could panic is linked into the firmware.
         let rows = || {
-            text.lines()
-                .map(|l| l.trim_end_matches('\r'))
+            text.as_bytes()
+                .split(|&b| b == b'\n')
+                .map(trim_cr)
                 .filter(|l| !l.is_empty())
         };
         let height = rows().count() as u32;
@@ -294,7 +297,7 @@ impl<const NW: usize> Grid<NW> {
             if line.len() as u32 != width {
                 return Err(GridError::RaggedRows { row: y as u32 });
             }
-            for (x, b) in line.bytes().enumerate() {
+            for (x, &b) in line.iter().enumerate() {
                 match b {
                     b'#' => self.set_obstacle(x as i32, y as i32, true)?,
                     b'.' => {}
@@ -309,4 +312,12 @@ impl<const NW: usize> Grid<NW> {
         }
         Ok(())
     }
+}
+
+/// `line` without its trailing `\r`s.
+fn trim_cr(mut line: &[u8]) -> &[u8] {
+    while let [rest @ .., b'\r'] = line {
+        line = rest;
+    }
+    line
 }

@@ -45,13 +45,9 @@ pub fn debug_collision(sim: &Sim, mission: &Mission) {
             sim.world.people.iter().map(|p| (p.pos, p.waited_s)).collect::<Vec<_>>()
         );
         let (x, y, _) = sim.pose;
-        let nearest = (0..360)
-            .filter_map(|d| {
-                let a = (d as f64).to_radians();
-                sim.world.ray(x, y, a, 1.0).map(|r| (r, d))
-            })
-            .fold((f64::MAX, 0), |b, c| if c.0 < b.0 { c } else { b });
-        eprintln!("   nearest wall {:.3} m at {}°", nearest.0, nearest.1);
+        // Walls only (`World::ray` would also hit people).
+        let d = sim.world.wall_distance(x, y, 1.0);
+        eprintln!("   nearest wall {d:.3} m from the centre");
     }
 }
 
