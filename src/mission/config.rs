@@ -312,8 +312,9 @@ pub struct Counters {
     pub handoff_dropped: u32,
     /// Events dropped because the caller did not drain the queue.
     pub events_dropped: u32,
-    /// Long ways routed on the planning cells because their ends did not
-    /// fit in one fine search window ([`super::route`]).
+    /// Long ways routed over the whole map in blocks: their ends did not
+    /// fit in one fine search window, or the window held no way between
+    /// them ([`super::route`]).
     pub routes: u32,
 }
 

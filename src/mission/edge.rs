@@ -75,7 +75,7 @@ sized_impl!([] {
                 }
                 Err(SearchError::OutOfWindow) => {
                     // The nearest contour is beyond a search window: go
-                    // there on the planning cells, and walk on from it.
+                    // there by a route over the whole map, and walk on from it.
                     let goal = self.m.edge.far_goal();
                     let to = cspace::fine_centre_mm(self.p.map, goal.x as i32, goal.y as i32);
                     let from = self.m.queue.last_end().unwrap_or(to);

@@ -183,8 +183,8 @@ struct Feed {
     /// The exact end point to queue after the path's cells.
     then: Option<(i32, i32)>,
     /// Where the path starts, and whether a search that finds no way
-    /// inside its window (not the whole map) may take a route on the
-    /// planning cells instead ([`route`]; not for a route's own legs).
+    /// inside its window (not the whole map) may take a route over the
+    /// whole map in blocks instead ([`route`]; not for a route's own legs).
     from: (i32, i32),
     routable: bool,
 }

@@ -57,8 +57,8 @@ impl Route {
 }
 
 sized_impl!([] {
-    /// Plans a route from `from` to `to` (world mm) on the planning cells
-    /// and starts feeding it. False when there is none (the caller falls
+    /// Plans a route from `from` to `to` (world mm) over the whole fine
+    /// map in blocks and starts feeding it. False when there is none (the caller falls
     /// back as it would for a fine search that failed).
     pub(super) fn begin_route(&mut self, from: (i32, i32), to: (i32, i32), cover: bool) -> bool {
         let a = nearest_free_fine(self.p.map, self.p.fine, from);
