@@ -12,7 +12,8 @@ use robovac::robot::lidar_map::{CellState, EvidenceMap};
 use robovac::search::WindowSearch;
 
 type G = Grid<{ robovac::math::bits::words_for(120 * 100) }>;
-type S = WindowSearch<{ 120 * 100 }, { robovac::math::bits::words_for(120 * 100) }, 4096>;
+type S = WindowSearch<{ 120 * 100 }, { robovac::math::bits::words_for(120 * 100) }>;
+type St = robovac::SearchState<{ 120 * 100 }, { robovac::math::bits::words_for(120 * 100) }, 4096>;
 
 const GUARD: GuardParams = GuardParams {
     radius_mm: 165,
@@ -144,13 +145,17 @@ fn edge_pass_visits_every_reachable_boundary_cell() {
         .collect();
     assert!(boundary.len() > 300);
     let mut search = Box::new(S::new());
+    let mut state = Box::new(St::new());
     let mut path = vec![Cell::default(); 120 * 100];
     let mut pass = EdgePass::new();
     let start = Cell::new(30, 30);
     assert!(pass.start(&mut fine, start));
     let (mut last, mut moves, mut edge_moves) = (start, 0usize, 0usize);
     for _ in 0..200_000 {
-        match pass.step(&mut fine, &mut search, &mut path, 500).unwrap() {
+        match pass
+            .step(&mut fine, &mut search, &mut state, &mut path, 500)
+            .unwrap()
+        {
             EdgeStep::Move { to, edge } => {
                 moves += 1;
                 let (dx, dy) = (to.x as i32 - last.x as i32, to.y as i32 - last.y as i32);

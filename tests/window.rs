@@ -8,19 +8,22 @@ mod common;
 use common::*;
 use proptest::prelude::*;
 use robovac::search::{Progress, SearchError, WindowSearch};
-use robovac::{Algo, Cell};
+use robovac::{Algo, Cell, SearchState};
 
 /// A window of 16 × 16 cells over the test grids (up to 64 × 64).
-type Small = WindowSearch<256, 8, 256>;
+type Small = WindowSearch<256, 8>;
+/// The state a small window runs on.
+type SmallState = SearchState<256, 8, 256>;
 /// A window as large as the test grids.
-type Whole = WindowSearch<CELLS, W, CELLS>;
+type Whole = WindowSearch<CELLS, W>;
 
 fn finish<const N: usize, const NW: usize, const O: usize>(
-    s: &mut WindowSearch<N, NW, O>,
+    s: &mut WindowSearch<N, NW>,
+    st: &mut SearchState<N, NW, O>,
 ) -> Result<Vec<Cell>, SearchError> {
-    while let Progress::Pending { .. } = s.resume(50)? {}
+    while let Progress::Pending { .. } = s.resume(st, 50)? {}
     let mut out = vec![Cell::default(); 4096];
-    let n = s.write_path(&mut out)?;
+    let n = s.write_path(st, &mut out)?;
     out.truncate(n);
     Ok(out)
 }
@@ -43,6 +46,7 @@ proptest! {
         let g = random_grid(w, h, d, seed);
         let (Some(s), Some(t)) = (pick_free(&g, k.0), pick_free(&g, k.1)) else { return Ok(()) };
         let mut plain = new_state();
+        let mut st = new_state();
         let mut win = Box::new(Whole::new());
         for algo in [Algo::AStar, Algo::Oha, Algo::Theta] {
             let a = plain.search(&g, s, &[t], algo).and_then(|_| {
@@ -51,7 +55,7 @@ proptest! {
                 out.truncate(n);
                 Ok(out)
             });
-            let b = win.begin(&g, s, &[t], algo).and_then(|_| finish(&mut win));
+            let b = win.begin(&mut st, &g, s, &[t], algo).and_then(|_| finish(&mut win, &mut st));
             prop_assert_eq!(a, b);
             prop_assert!(win.is_whole());
         }
@@ -66,14 +70,15 @@ proptest! {
         let (Some(s), Some(t)) = (pick_free(&g, k.0), pick_free(&g, k.1)) else { return Ok(()) };
         let near = (s.x as i32 - t.x as i32).abs() <= 8 && (s.y as i32 - t.y as i32).abs() <= 8;
         let mut win = Box::new(Small::new());
-        match win.begin(&g, s, &[t], Algo::AStar) {
+        let mut st = Box::new(SmallState::new());
+        match win.begin(&mut st, &g, s, &[t], Algo::AStar) {
             Err(SearchError::OutOfWindow) => prop_assert!(!near, "near goal left out"),
             Err(e) => prop_assert!(false, "{e:?}"),
             Ok(()) => {
                 let wdw = win.window();
                 prop_assert!(wdw.w <= 16 && wdw.h <= 16);
                 prop_assert!(wdw.contains(s) && wdw.contains(t));
-                if let Ok(path) = finish(&mut win) {
+                if let Ok(path) = finish(&mut win, &mut st) {
                     let len = check_grid_path(&g, &path);
                     prop_assert!(path.iter().all(|&c| wdw.contains(c)));
                     prop_assert_eq!(path.first().copied(), Some(s));
@@ -92,25 +97,49 @@ proptest! {
 fn far_goals_are_out_of_window() {
     let g = random_grid(60, 60, 0, 1);
     let mut win = Box::new(Small::new());
+    let mut st = Box::new(SmallState::new());
     let far = Cell::new(59, 59);
     let near = Cell::new(5, 5);
     assert_eq!(
-        win.begin(&g, Cell::new(0, 0), &[far], Algo::AStar),
+        win.begin(&mut st, &g, Cell::new(0, 0), &[far], Algo::AStar),
         Err(SearchError::OutOfWindow)
     );
-    win.begin(&g, Cell::new(0, 0), &[far, near], Algo::AStar)
+    win.begin(&mut st, &g, Cell::new(0, 0), &[far, near], Algo::AStar)
         .unwrap();
     assert_eq!(win.goals(), &[near]);
     assert!(!win.is_whole());
-    let path = finish(&mut win).unwrap();
+    let path = finish(&mut win, &mut st).unwrap();
     assert_eq!(path.last(), Some(&near));
     let many = vec![near; robovac::search::MAX_GOALS + 1];
     assert_eq!(
-        win.begin(&g, Cell::new(0, 0), &many, Algo::AStar),
+        win.begin(&mut st, &g, Cell::new(0, 0), &many, Algo::AStar),
         Err(SearchError::TooManyGoals)
     );
     assert_eq!(
-        win.begin(&g, Cell::new(70, 0), &[near], Algo::AStar),
+        win.begin(&mut st, &g, Cell::new(70, 0), &[near], Algo::AStar),
         Err(SearchError::StartOffMap)
     );
+}
+
+/// The state is lent: a query whose state another query took meanwhile
+/// fails with `Preempted` instead of reading the other query's nodes, and
+/// begun again it finds its own path.
+#[test]
+fn a_query_whose_state_was_taken_is_preempted() {
+    let g = random_grid(60, 60, 0, 1);
+    let mut win = Box::new(Small::new());
+    let mut st = Box::new(SmallState::new());
+    let (a, b) = (Cell::new(2, 2), Cell::new(9, 9));
+    win.begin(&mut st, &g, a, &[b], Algo::AStar).unwrap();
+    let _ = win.resume(&mut st, 3);
+    let small = random_grid(10, 10, 0, 2);
+    st.search(&small, Cell::new(0, 0), &[Cell::new(9, 0)], Algo::AStar)
+        .unwrap();
+    assert_eq!(win.resume(&mut st, 50), Err(SearchError::Preempted));
+    let mut out = [Cell::default(); 64];
+    assert_eq!(win.write_path(&st, &mut out), Err(SearchError::Preempted));
+    win.begin(&mut st, &g, a, &[b], Algo::AStar).unwrap();
+    let path = finish(&mut win, &mut st).unwrap();
+    assert_eq!((path.first(), path.last()), (Some(&a), Some(&b)));
+    check_grid_path(&g, &path);
 }

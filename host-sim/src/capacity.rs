@@ -49,14 +49,15 @@ pub fn new_search() -> Box<HostSearch> {
     unsafe { b.assume_init() }
 }
 
-/// The mission's fine searches on the host: the window is the whole map.
-pub type HostWindow = WindowSearch<HOST_CELLS, HOST_WORDS, HOST_OPEN>;
+/// The mission's fine searches on the host: the window is the whole map
+/// (they run on the planner's search state, lent).
+pub type HostWindow = WindowSearch<HOST_CELLS, HOST_WORDS>;
 
 /// A host window search on the heap, without building it on the stack.
 pub fn new_window() -> Box<HostWindow> {
     let b = Box::<HostWindow>::new_zeroed();
     // SAFETY: `WindowSearch` is a `Grid` (integers and arrays of them), a
-    // `SearchState` (see `new_search`), a window and goals (integers); its
+    // window, goals and counters (integers); its
     // documentation guarantees that all-zero bytes are the idle state
     // `WindowSearch::new()`.
     unsafe { b.assume_init() }

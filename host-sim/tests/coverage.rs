@@ -297,6 +297,65 @@ fn node_budget_bounds_every_call_and_changes_nothing() {
     }
 }
 
+/// The planner's search state is lent to the mission's fine searches
+/// (issue 11 §3). Taken in the middle of a transit search, the planner
+/// notices (the state's query id changed) and searches again: the same
+/// waypoints as a run whose state nobody took.
+#[test]
+fn lending_the_search_state_mid_search_changes_nothing() {
+    let mut rng = robovac::grid::maps::SplitMix64::new(11);
+    let (map, start) =
+        host_sim::run::bench::table2_instance(30, 50, robovac::grid::maps::TABLE2_MAP, &mut rng)
+            .unwrap();
+    let small = {
+        let mut g = Grid::<HOST_WORDS>::new();
+        g.reset(8, 8).unwrap();
+        g
+    };
+    for kind in ALL_PLANNERS {
+        let run = |lend: bool| {
+            let mut g = new_grid();
+            map.to_grid(&mut *g).unwrap();
+            let mut p = new_planner(kind);
+            p.start(&mut *g, start).unwrap();
+            let (mut moves, mut lent, mut may_lend) = (Vec::new(), 0, lend);
+            loop {
+                match p.step(&mut *g, 7).unwrap() {
+                    Step::Move(w) => {
+                        moves.push(w.to);
+                        may_lend = lend;
+                    }
+                    Step::Done => return (moves, lent),
+                    // Once per transit: a search taken at every step would
+                    // never finish (the executive only lends the state while
+                    // the planner waits).
+                    Step::Pending if may_lend => {
+                        let st = p.search_state_mut();
+                        st.search(
+                            &small,
+                            Cell::new(0, 0),
+                            &[Cell::new(7, 7)],
+                            robovac::Algo::AStar,
+                        )
+                        .unwrap();
+                        lent += 1;
+                        may_lend = false;
+                    }
+                    Step::Pending => {}
+                }
+            }
+        };
+        let (plain, _) = run(false);
+        let (taken, lent) = run(true);
+        assert!(
+            lent > 0,
+            "{}: no search was long enough to be taken",
+            kind.name()
+        );
+        assert_eq!(plain, taken, "{}", kind.name());
+    }
+}
+
 #[test]
 fn full_list_keeps_coverage_complete() {
     // A backtracking list of 4 points overflows constantly; the rescan

@@ -149,6 +149,10 @@ pub struct Coverage<
     phase: Phase,
     stats: PlanStats,
     last_step_nodes: u32,
+    /// The search state's query id after this planner's last `begin`: a
+    /// different one means the state was lent out meanwhile
+    /// ([`Coverage::search_state_mut`]) and the transit search begins again.
+    query: u32,
 }
 
 impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, const PCAP: usize>
@@ -182,6 +186,7 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
                 replans: 0,
             },
             last_step_nodes: 0,
+            query: 0,
         }
     }
 
@@ -210,9 +215,12 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
         }
     }
 
-    /// The planner's search state, for point-to-point queries between
-    /// runs (it is idle whenever the planner is not searching), so a
-    /// firmware needs one search state, not two.
+    /// The planner's search state, lent for other queries (the mission's
+    /// fine searches, point-to-point queries), so a firmware needs one
+    /// search state, not two. Lending it during a transit search is safe:
+    /// the planner sees the state's query id change and searches again
+    /// from the start, so a caller that lent it at every step would starve
+    /// it (the executive lends it only while the planner waits).
     pub fn search_state_mut(&mut self) -> &mut SearchState<N, NW, OPEN> {
         &mut self.search
     }
@@ -368,9 +376,9 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
         }
         let algo = self.choose_goals();
         let goals = self.goals.get(..self.goal_count).unwrap_or(&[]);
-        self.search
-            .begin(grid, self.cur, goals, algo)
-            .map_err(CoverageError::Search)?;
+        let begun = self.search.begin(grid, self.cur, goals, algo);
+        self.query = self.search.query_id();
+        begun.map_err(CoverageError::Search)?;
         self.stats.searches += 1;
         self.phase = Phase::Searching;
         Ok(None)
@@ -383,6 +391,11 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
         grid: &mut Grid<GW>,
         left: &mut u32,
     ) -> Result<Option<Step>, CoverageError> {
+        if self.search.query_id() != self.query {
+            // The state was lent to another query: search again.
+            self.phase = Phase::Critical;
+            return Ok(None);
+        }
         match self.resume_search(grid, left) {
             Ok(Progress::Pending { .. }) => return Ok(Some(Step::Pending)),
             Ok(Progress::Found(st)) => {

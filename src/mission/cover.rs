@@ -167,8 +167,8 @@ sized_impl!([] {
             return;
         };
         m.counters.detours += 1;
-        let search = &mut *self.p.search;
-        match search.begin(self.p.fine, a, &[b], Algo::AStar) {
+        let state = self.p.planner.search_state_mut();
+        match self.p.search.begin(state, self.p.fine, a, &[b], Algo::AStar) {
             Ok(()) => {}
             Err(SearchError::OutOfWindow) if self.begin_route(from, to, cover) => return,
             Err(_) => {
@@ -195,10 +195,11 @@ sized_impl!([] {
             return true;
         };
         if f.searching {
+            let state = self.p.planner.search_state_mut();
             let search = &mut *self.p.search;
-            match search.resume(self.m.cfg.node_budget) {
+            match search.resume(state, self.m.cfg.node_budget) {
                 Ok(Progress::Pending { .. }) => return false,
-                Ok(Progress::Found(_)) => match search.write_path(self.p.path) {
+                Ok(Progress::Found(_)) => match search.write_path(state, self.p.path) {
                     Ok(n) => {
                         let r = (self.m.cfg.radius_mm + self.m.cfg.margin_mm / 2) as i64;
                         f.len =
@@ -210,6 +211,14 @@ sized_impl!([] {
                         return false;
                     }
                 },
+                Err(SearchError::Preempted) => {
+                    // The shared state went to another query (nothing does
+                    // this today: the planner waits while a path is fed):
+                    // search again.
+                    self.m.feed = None;
+                    self.detour(f.from, f.then.unwrap_or(f.from), f.cover);
+                    return false;
+                }
                 Err(SearchError::NoPath) if f.routable && !self.p.search.is_whole() => {
                     // No way inside the window: a longer way round, on the
                     // planning cells.

@@ -45,7 +45,8 @@ sized_impl!([] {
         let budget = self.m.cfg.node_budget;
         while self.m.queue.len() < 8 {
             let search = &mut *self.p.search;
-            match self.m.edge.step(self.p.fine, search, self.p.path, budget) {
+            let state = self.p.planner.search_state_mut();
+            match self.m.edge.step(self.p.fine, search, state, self.p.path, budget) {
                 Ok(EdgeStep::Move { .. } | EdgeStep::Done)
                     if self.m.edge.stats.reached * 2 < self.m.edge.stats.free
                         && self.m.edge_tries < HOME_TRIES =>

@@ -69,8 +69,8 @@ sized_impl!([] {
             m.phase = Phase::Return;
             return;
         }
-        let search = &mut *self.p.search;
-        match search.begin(self.p.fine, a, &[b], Algo::AStar) {
+        let state = self.p.planner.search_state_mut();
+        match self.p.search.begin(state, self.p.fine, a, &[b], Algo::AStar) {
             Ok(()) => {}
             Err(SearchError::OutOfWindow) if self.begin_route(from, home, false) => {
                 self.m.phase = Phase::Return;

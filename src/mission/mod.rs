@@ -78,13 +78,13 @@
 //! `cover`, `edge`, `home`, `recover` and `avoid` its parts; `lidar` the
 //! lidar event.
 
-/// An impl for buffers of every size: the header with its eleven const
+/// An impl for buffers of every size: the header with its eight const
 /// generics written once. `sized_impl!([Trait for Type] { items })`, or
 /// `sized_impl!([] { items })` for the planning side's methods on
 /// [`Exec`] over [`Parts`].
 macro_rules! sized_impl {
     ([] $($body:tt)*) => {
-        sized_impl!([$crate::mission::Exec<'_, '_, $crate::mission::Parts<'_, N, NW, OPEN, LCAP, PCAP, SN, SNW, SOPEN, FW, EV, MW>>] $($body)*);
+        sized_impl!([$crate::mission::Exec<'_, '_, $crate::mission::Parts<'_, N, NW, OPEN, LCAP, PCAP, FW, EV, MW>>] $($body)*);
     };
     ([$($head:tt)*] { $($body:tt)* }) => {
         impl<
@@ -93,9 +93,6 @@ macro_rules! sized_impl {
                 const OPEN: usize,
                 const LCAP: usize,
                 const PCAP: usize,
-                const SN: usize,
-                const SNW: usize,
-                const SOPEN: usize,
                 const FW: usize,
                 const EV: usize,
                 const MW: usize,

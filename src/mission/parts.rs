@@ -1,6 +1,6 @@
 //! The big buffers the executive works in, owned by the caller, and the
 //! [`MissionParts`] trait through which the entry points take them, so an
-//! entry point names one type parameter instead of eleven const generics.
+//! entry point names one type parameter instead of eight const generics.
 
 use super::{Exec, Mission};
 use crate::coverage::{Coverage, PlanStats};
@@ -19,19 +19,17 @@ pub struct Parts<
     const OPEN: usize,
     const LCAP: usize,
     const PCAP: usize,
-    const SN: usize,
-    const SNW: usize,
-    const SOPEN: usize,
     const FW: usize,
     const EV: usize,
     const MW: usize,
 > {
     /// The coverage planner (on the planning cells).
     pub planner: &'a mut Coverage<N, NW, OPEN, LCAP, PCAP>,
-    /// The fine-grid searches' state (detours, edge transits, the way
-    /// home), separate from the planner's so neither clobbers the other;
-    /// bounded to a window of `SN` fine cells.
-    pub search: &'a mut WindowSearch<SN, SNW, SOPEN>,
+    /// The fine-grid searches (detours, edge transits, the way home),
+    /// bounded to a window of `N` fine cells; they run on the planner's
+    /// search state, lent ([`Coverage::search_state_mut`]), so `N` is the
+    /// larger of the planning cells and the window.
+    pub search: &'a mut WindowSearch<N, NW>,
     /// Planning cells.
     pub coarse: &'a mut Grid<NW>,
     /// The fine configuration space (the evidence map's cells).
@@ -74,7 +72,7 @@ pub struct PlannerView {
     pub list_len: usize,
 }
 
-sized_impl!([MissionParts for Parts<'_, N, NW, OPEN, LCAP, PCAP, SN, SNW, SOPEN, FW, EV, MW>] {
+sized_impl!([MissionParts for Parts<'_, N, NW, OPEN, LCAP, PCAP, FW, EV, MW>] {
     fn begin(&mut self, m: &mut Mission, start: Pose) {
         Exec { m, p: self }.begin(start);
     }

@@ -67,13 +67,14 @@ sized_impl!([] {
             return false;
         };
         let budget = self.m.cfg.node_budget;
+        let state = self.p.planner.search_state_mut();
         let search = &mut *self.p.search;
-        if search.begin_blocks(self.p.fine, a, b, Algo::AStar).is_err()
-            || !matches!(search.resume(budget), Ok(Progress::Found(_)))
+        if search.begin_blocks(state, self.p.fine, a, b, Algo::AStar).is_err()
+            || !matches!(search.resume(state, budget), Ok(Progress::Found(_)))
         {
             return false;
         }
-        let Ok(n) = search.write_path(self.p.path) else {
+        let Ok(n) = search.write_path(state, self.p.path) else {
             return false;
         };
         let Some(route) = self.thin_route(from, to, n, cover) else {

@@ -22,7 +22,7 @@
 //! goals, or `budget` search nodes.
 
 use crate::grid::{Cell, Grid, Layer};
-use crate::search::{Algo, Progress, SearchError, WindowSearch};
+use crate::search::{Algo, Progress, SearchError, SearchState, WindowSearch};
 
 /// Goals per transit search.
 pub const EDGE_GOALS: usize = 16;
@@ -224,11 +224,14 @@ impl EdgePass {
     }
 
     /// The next thing to do. `path` is the transit buffer (as long as the
-    /// longest transit, in fine cells); `search` any idle search state.
+    /// longest transit, in fine cells); `search` the fine searches and
+    /// `state` the search state they run on (lent; a transit search whose
+    /// state was taken meanwhile is begun again).
     pub fn step<const N: usize, const NW: usize, const OPEN: usize, const GW: usize>(
         &mut self,
         fine: &mut Grid<GW>,
-        search: &mut WindowSearch<N, NW, OPEN>,
+        search: &mut WindowSearch<N, NW>,
+        state: &mut SearchState<N, NW, OPEN>,
         path: &mut [Cell],
         budget: u32,
     ) -> Result<EdgeStep, SearchError> {
@@ -243,11 +246,11 @@ impl EdgePass {
                     }
                     self.fill_done(fine);
                 }
-                Phase::Walk => return self.walk(fine, search),
-                Phase::Search => match search.resume(budget) {
+                Phase::Walk => return self.walk(fine, search, state),
+                Phase::Search => match search.resume(state, budget) {
                     Ok(Progress::Pending { .. }) => return Ok(EdgeStep::Pending),
                     Ok(Progress::Found(_)) => {
-                        self.path_len = search.write_path(path)?;
+                        self.path_len = search.write_path(state, path)?;
                         self.path_pos = 1;
                         self.phase = Phase::Transit;
                     }
@@ -258,6 +261,7 @@ impl EdgePass {
                         }
                         self.phase = Phase::Walk;
                     }
+                    Err(SearchError::Preempted) => self.phase = Phase::Walk,
                     Err(e) => return Err(e),
                 },
                 Phase::Transit => {
@@ -306,7 +310,8 @@ impl EdgePass {
     fn walk<const N: usize, const NW: usize, const OPEN: usize, const GW: usize>(
         &mut self,
         fine: &mut Grid<GW>,
-        search: &mut WindowSearch<N, NW, OPEN>,
+        search: &mut WindowSearch<N, NW>,
+        state: &mut SearchState<N, NW, OPEN>,
     ) -> Result<EdgeStep, SearchError> {
         if let Some(next) = self.next_on_contour(fine) {
             let (x, y) = next.xy();
@@ -327,7 +332,13 @@ impl EdgePass {
             return Ok(EdgeStep::Done);
         }
         self.far_goal = goals.first().copied().unwrap_or(self.last);
-        if let Err(e) = search.begin(fine, self.last, goals.get(..n).unwrap_or(&[]), Algo::AStar) {
+        if let Err(e) = search.begin(
+            state,
+            fine,
+            self.last,
+            goals.get(..n).unwrap_or(&[]),
+            Algo::AStar,
+        ) {
             self.phase = Phase::Walk;
             return Err(e);
         }

@@ -50,6 +50,7 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
         algo: Algo,
     ) -> Result<(), SearchError> {
         self.phase = IDLE;
+        self.query = self.query.wrapping_add(1);
         let cells = grid.cells();
         if cells > N || cells > NW * 32 {
             return Err(SearchError::MapTooLarge);

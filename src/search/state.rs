@@ -51,6 +51,9 @@ pub enum SearchError {
     MapTooLarge,
     /// The map was resized while a resumable search was running.
     MapChanged,
+    /// The shared search state was lent to another query since this one
+    /// began ([`super::window::WindowSearch`]): begin it again.
+    Preempted,
     /// `resume` without a `begin`, or after the query ended.
     NotRunning,
     /// The output buffer is shorter than the path.
@@ -74,6 +77,7 @@ impl SearchError {
             SearchError::OpenListFull => "open list capacity exceeded",
             SearchError::MapTooLarge => "map exceeds the search capacity",
             SearchError::MapChanged => "map was resized during the search",
+            SearchError::Preempted => "the shared search state was taken by another query",
             SearchError::NotRunning => "no search is running",
             SearchError::PathBufferTooSmall => "path buffer too small",
             SearchError::OutOfWindow => "no goal within the search window",
@@ -154,6 +158,11 @@ pub struct SearchState<const N: usize, const NW: usize, const OPEN: usize> {
     pub(super) width: u32,
     pub(super) height: u32,
     pub(super) nodes: u32,
+    /// Bumped by every `begin`: a caller that lends this state to another
+    /// (the planner to the fine searches, [`super::window`]) compares it
+    /// with the value its own `begin` left, to know whether its query was
+    /// overwritten meanwhile.
+    pub(super) query: u32,
 }
 
 impl<const N: usize, const NW: usize, const OPEN: usize> Default for SearchState<N, NW, OPEN> {
@@ -184,6 +193,7 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
             width: 0,
             height: 0,
             nodes: 0,
+            query: 0,
         }
     }
     /// The goals of the current query.
@@ -260,5 +270,12 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
     /// Nodes expanded by the current or last query.
     pub fn nodes_expanded(&self) -> u32 {
         self.nodes
+    }
+
+    /// Which query the state holds: changes at every `begin` (wrapping), so
+    /// a query's owner can tell whether the state it lent out still holds
+    /// its query.
+    pub fn query_id(&self) -> u32 {
+        self.query
     }
 }

@@ -15,6 +15,15 @@
 //! in it; else centred on the start, keeping the goals inside it, and
 //! [`SearchError::OutOfWindow`] when none is. Cells outside the window
 //! read as obstacles, so a path never leaves it.
+//!
+//! **The search state is lent, not owned.** The caller passes a
+//! [`SearchState`] to every call: on the robot it is the coverage
+//! planner's, shared in time (issue 11 §3: one search state instead of
+//! two, about 20 KB fewer). The planner searches only between fine
+//! searches, but nothing relies on it: each side remembers the
+//! [`SearchState::query_id`] its own `begin` left, and a query whose state
+//! was taken meanwhile fails with [`SearchError::Preempted`] (here) or is
+//! begun again (the planner) instead of reading another query's nodes.
 
 use super::{Algo, Progress, SearchError, SearchState, MAX_GOALS};
 use crate::grid::{Cell, Grid};
@@ -47,10 +56,11 @@ impl Window {
 
 /// A resumable search on a window of a larger grid; cells in and out are
 /// the larger grid's.
-pub struct WindowSearch<const N: usize, const NW: usize, const OPEN: usize> {
+pub struct WindowSearch<const N: usize, const NW: usize> {
     /// The window's obstacles (a copy, taken at [`WindowSearch::begin`]).
     grid: Grid<NW>,
-    state: SearchState<N, NW, OPEN>,
+    /// The lent state's [`SearchState::query_id`] after this query began.
+    query: u32,
     win: Window,
     /// The current query's goals, on the larger grid.
     goals: [Cell; MAX_GOALS],
@@ -62,13 +72,13 @@ pub struct WindowSearch<const N: usize, const NW: usize, const OPEN: usize> {
     last: (u16, u16),
 }
 
-impl<const N: usize, const NW: usize, const OPEN: usize> Default for WindowSearch<N, NW, OPEN> {
+impl<const N: usize, const NW: usize> Default for WindowSearch<N, NW> {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<const N: usize, const NW: usize, const OPEN: usize> WindowSearch<N, NW, OPEN> {
+impl<const N: usize, const NW: usize> WindowSearch<N, NW> {
     /// The square window's side, cells (when the grid does not fit whole).
     pub const SIDE: u16 = {
         let s = isqrt_u64(N as u64);
@@ -84,7 +94,7 @@ impl<const N: usize, const NW: usize, const OPEN: usize> WindowSearch<N, NW, OPE
     pub const fn new() -> Self {
         Self {
             grid: Grid::new(),
-            state: SearchState::new(),
+            query: 0,
             win: Window {
                 x0: 0,
                 y0: 0,
@@ -101,9 +111,11 @@ impl<const N: usize, const NW: usize, const OPEN: usize> WindowSearch<N, NW, OPE
 
     /// Starts a query on `big` from `start` to the nearest of `goals`
     /// (go on with [`WindowSearch::resume`]). Goals outside the window are
-    /// left out; none inside is [`SearchError::OutOfWindow`].
-    pub fn begin<const GW: usize>(
+    /// left out; none inside is [`SearchError::OutOfWindow`]. `state` is
+    /// lent for the query's duration (see the module docs).
+    pub fn begin<const OPEN: usize, const GW: usize>(
         &mut self,
+        state: &mut SearchState<N, NW, OPEN>,
         big: &Grid<GW>,
         start: Cell,
         goals: &[Cell],
@@ -141,13 +153,32 @@ impl<const N: usize, const NW: usize, const OPEN: usize> WindowSearch<N, NW, OPE
             return Err(SearchError::OutOfWindow);
         }
         let local = local.get(..self.goal_count).unwrap_or(&[]);
-        self.state
-            .begin(&self.grid, self.win.local(start), local, algo)
+        let r = state.begin(&self.grid, self.win.local(start), local, algo);
+        self.query = state.query_id();
+        r
     }
 
-    /// Goes on with the query for at most `budget` node expansions.
-    pub fn resume(&mut self, budget: u32) -> Result<Progress, SearchError> {
-        self.state.resume(&self.grid, budget)
+    /// Goes on with the query for at most `budget` node expansions, on the
+    /// state lent to `begin`.
+    pub fn resume<const OPEN: usize>(
+        &mut self,
+        state: &mut SearchState<N, NW, OPEN>,
+        budget: u32,
+    ) -> Result<Progress, SearchError> {
+        self.check(state)?;
+        state.resume(&self.grid, budget)
+    }
+
+    /// [`SearchError::Preempted`] when `state` no longer holds this query.
+    fn check<const OPEN: usize>(
+        &self,
+        state: &SearchState<N, NW, OPEN>,
+    ) -> Result<(), SearchError> {
+        if state.query_id() == self.query {
+            Ok(())
+        } else {
+            Err(SearchError::Preempted)
+        }
     }
 
     /// Starts a query over the whole of `big` seen in blocks of `b × b`
@@ -158,8 +189,9 @@ impl<const N: usize, const NW: usize, const OPEN: usize> WindowSearch<N, NW, OPE
     /// when `b` cells are at most the robot's diameter) stays closed. The
     /// path ([`WindowSearch::write_path`]) is the blocks' centre cells,
     /// which the caller must check on `big` (a centre may be blocked).
-    pub fn begin_blocks<const GW: usize>(
+    pub fn begin_blocks<const OPEN: usize, const GW: usize>(
         &mut self,
+        state: &mut SearchState<N, NW, OPEN>,
         big: &Grid<GW>,
         start: Cell,
         goal: Cell,
@@ -200,13 +232,20 @@ impl<const N: usize, const NW: usize, const OPEN: usize> WindowSearch<N, NW, OPE
             *k = goal;
             self.goal_count = 1;
         }
-        self.state.begin(&self.grid, s, &[g], algo)
+        let r = state.begin(&self.grid, s, &[g], algo);
+        self.query = state.query_id();
+        r
     }
 
     /// Writes the found path (larger-grid cells, start first) into `out`;
     /// returns its length.
-    pub fn write_path(&self, out: &mut [Cell]) -> Result<usize, SearchError> {
-        let n = self.state.write_path(out)?;
+    pub fn write_path<const OPEN: usize>(
+        &self,
+        state: &SearchState<N, NW, OPEN>,
+        out: &mut [Cell],
+    ) -> Result<usize, SearchError> {
+        self.check(state)?;
+        let n = state.write_path(out)?;
         let b = self.block.max(1);
         for c in out.iter_mut().take(n) {
             *c = if b == 1 {
@@ -230,11 +269,6 @@ impl<const N: usize, const NW: usize, const OPEN: usize> WindowSearch<N, NW, OPE
     /// The current query's window.
     pub fn window(&self) -> Window {
         self.win
-    }
-
-    /// Nodes expanded by the current or last query.
-    pub fn nodes_expanded(&self) -> u32 {
-        self.state.nodes_expanded()
     }
 
     fn covers<const GW: usize>(&self, big: &Grid<GW>) -> bool {
