@@ -10,17 +10,24 @@
 #![cfg_attr(target_os = "none", no_main)]
 
 #[cfg(target_os = "none")]
+mod board;
+#[cfg(target_os = "none")]
+mod log;
+#[cfg(target_os = "none")]
+mod rtt;
+
+#[cfg(target_os = "none")]
 mod firmware {
+    use super::{board, log};
     use cortex_m::peripheral::DWT;
     use cortex_m_rt::entry;
-    use defmt_rtt as _;
     use panic_probe as _;
     use robovac::capacity::{FwGrid, FwSearch, FW_CELLS, FW_SIDE};
     use robovac::grid::maps::FLAT_40X20;
     use robovac::math::cost::COST_PER_CELL;
     use robovac::search::prune::prune;
     use robovac::{Algo, Cell};
-    use stm32f4xx_hal::{pac, prelude::*, rcc::Config};
+    use stm32f4xx_hal::pac;
 
     #[entry]
     fn main() -> ! {
@@ -35,8 +42,11 @@ mod firmware {
             halt();
         };
         // 84 MHz from the internal oscillator: no crystal needed on any board.
-        let rcc = dp.RCC.freeze(Config::hsi().sysclk(84.MHz()));
-        defmt::info!("sysclk {} Hz", rcc.clocks.sysclk().raw());
+        let (sysclk_hz, clock_err) = board::clock::setup(&dp.RCC, &dp.FLASH);
+        defmt::info!("sysclk {} Hz", sysclk_hz);
+        if let Some(e) = clock_err {
+            defmt::warn!("clocks left on the internal oscillator: {}", e);
+        }
         cp.DCB.enable_trace();
         cp.DWT.enable_cycle_counter();
 
@@ -78,7 +88,10 @@ mod firmware {
             }
             Err(e) => defmt::error!("OHA* failed: {}", e.as_str()),
         }
-        defmt::info!("idle: motors, encoders and lidar arrive in later releases");
+        defmt::info!(
+            "idle: motors, encoders and lidar arrive in later releases ({} log frames dropped)",
+            log::dropped()
+        );
         loop {
             cortex_m::asm::wfi();
         }
