@@ -50,7 +50,7 @@ mod emu {
     use robovac::grid::maps::{table1_instance, SplitMix64, FLAT_40X20, TABLE1_CORNER, TABLE1_MAP};
     use robovac::math::cost::COST_PER_CELL;
     use robovac::robot::lidar::scan::{Scan, ScanAssembler};
-    use robovac::robot::lidar_map::EvidenceMap;
+    use robovac::robot::lidar_map::{evidence_bytes, EvidenceMap};
     use robovac::search::prune::prune;
     use robovac::verify::check::Checker;
     use robovac::verify::metrics::MetricsRecorder;
@@ -173,7 +173,7 @@ mod emu {
         static mut COV: BenchCoverage = BenchCoverage::new(PlannerKind::BOha);
         static mut CHECK: Checker<BENCH_WORDS> = Checker::new();
         static mut REC: MetricsRecorder<BENCH_WORDS> = MetricsRecorder::new();
-        static mut EVID: EvidenceMap<{ 64 * 64 }> = EvidenceMap::new();
+        static mut EVID: EvidenceMap<{ evidence_bytes(64 * 64) }> = EvidenceMap::new();
         static mut ASM: ScanAssembler<40> = ScanAssembler::new();
         static mut SCAN: Scan<40> = Scan::new();
         static mut ORACLE: Oracle = Oracle::new();

@@ -26,7 +26,7 @@ mod run {
     use cortex_m_semihosting::debug;
     use defmt_semihosting as _;
     use robovac::localize::{fusion, matcher_words, Fusion, PoseU, ScanMatcher};
-    use robovac::robot::lidar_map::{CellState, EvidenceMap};
+    use robovac::robot::lidar_map::{evidence_bytes, CellState, EvidenceMap};
     use stm32f4xx_hal as _;
 
     const MAP: &str = include_str!("../maps/flat/home.txt");
@@ -37,7 +37,7 @@ mod run {
     const MW: usize = matcher_words(W, H);
 
     /// The flat into the evidence map, each 10 cm cell as 2 × 2 cells.
-    fn load_map(map: &mut EvidenceMap<{ W * H }>) {
+    fn load_map(map: &mut EvidenceMap<{ evidence_bytes(W * H) }>) {
         if map.reset(W as u32, H as u32, 50).is_err() {
             fail("evidence map size");
         }
@@ -100,7 +100,11 @@ mod run {
         (d, dt / 1000)
     }
 
-    fn report(meter: &Meter, map: &mut EvidenceMap<{ W * H }>, m: &mut ScanMatcher<MW>) {
+    fn report(
+        meter: &Meter,
+        map: &mut EvidenceMap<{ evidence_bytes(W * H) }>,
+        m: &mut ScanMatcher<MW>,
+    ) {
         let ((), insn) = meter.measure(|| load_map(map));
         defmt::println!(
             "localize: prior map 192x144 cells loaded in {} instructions",
@@ -148,7 +152,7 @@ mod run {
 
     #[entry]
     fn main() -> ! {
-        static mut MAP_EV: EvidenceMap<{ W * H }> = EvidenceMap::new();
+        static mut MAP_EV: EvidenceMap<{ evidence_bytes(W * H) }> = EvidenceMap::new();
         static mut MATCHER: ScanMatcher<MW> = ScanMatcher::new();
         let meter = common::start_meter();
         report(&meter, MAP_EV, MATCHER);
@@ -156,7 +160,7 @@ mod run {
             "localize memory: matcher {} bytes here, {} bytes for a 12x12 m home at 5 cm (asserted <= 16 KiB); evidence map {} bytes here",
             core::mem::size_of::<ScanMatcher<MW>>(),
             robovac::capacity::FW_MATCHER_BYTES,
-            core::mem::size_of::<EvidenceMap<{ W * H }>>()
+            core::mem::size_of::<EvidenceMap<{ evidence_bytes(W * H) }>>()
         );
         defmt::println!("emulated localization run: all checks passed");
         exit(debug::EXIT_SUCCESS)

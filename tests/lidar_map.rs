@@ -3,14 +3,14 @@
 use robovac::grid::Grid;
 use robovac::robot::lidar::scan::{Scan, ScanAssembler};
 use robovac::robot::lidar::{LidarFrame, LidarPoint};
-use robovac::robot::lidar_map::{CellState, EvidenceMap, LidarMount};
+use robovac::robot::lidar_map::{evidence_bytes, CellState, EvidenceMap, LidarMount};
 use robovac::robot::odometry::Pose;
 
 const MOUNT: LidarMount = LidarMount::ld06_centred(false);
 
 #[test]
 fn beams_clear_and_hit() {
-    let mut m: Box<EvidenceMap<{ 100 * 100 }>> = Box::new(EvidenceMap::new());
+    let mut m: Box<EvidenceMap<{ evidence_bytes(100 * 100) }>> = Box::new(EvidenceMap::new());
     m.reset(100, 100, 50).unwrap();
     // Robot at (1 m, 1 m) looking east; a wall 2 m ahead.
     m.trace(1000, 1000, 3000, 1000, true);
@@ -68,7 +68,7 @@ fn scans_assemble_and_map_a_room() {
     }
     assert!(got);
     assert!(scan.point_count() >= 38 * 12 - 12);
-    let mut m: Box<EvidenceMap<{ 100 * 100 }>> = Box::new(EvidenceMap::new());
+    let mut m: Box<EvidenceMap<{ evidence_bytes(100 * 100) }>> = Box::new(EvidenceMap::new());
     m.reset(84, 84, 50).unwrap();
     m.integrate_scan(&scan, &MOUNT);
     let c = |x, y| {
@@ -91,7 +91,7 @@ fn scans_assemble_and_map_a_room() {
 
 #[test]
 fn absurd_poses_do_not_panic() {
-    let mut m: Box<EvidenceMap<{ 10 * 10 }>> = Box::new(EvidenceMap::new());
+    let mut m: Box<EvidenceMap<{ evidence_bytes(10 * 10) }>> = Box::new(EvidenceMap::new());
     m.reset(10, 10, 1).unwrap(); // 1 mm cells: the worst case for overflow
     for &(a, b) in &[
         (i32::MIN, i32::MAX),
@@ -106,4 +106,77 @@ fn absurd_poses_do_not_panic() {
         }
     }
     m.trace(100, 100, 100 + 5_000_000, 100, false);
+}
+
+#[test]
+fn four_bit_cells_hold_their_values_apart() {
+    use robovac::robot::lidar_map::{FREE_LIMIT, LIMIT};
+    // 7 × 5 = 35 cells in 18 bytes: an odd count, so the last byte is half used.
+    let mut m: Box<EvidenceMap<{ evidence_bytes(7 * 5) }>> = Box::new(EvidenceMap::new());
+    assert_eq!(
+        core::mem::size_of_val(&*m),
+        (12 + 18_usize).next_multiple_of(4)
+    );
+    m.reset(7, 5, 50).unwrap();
+    let want = |x: i32, y: i32| match (x * 3 + y) % 3 {
+        0 => CellState::Occupied,
+        1 => CellState::Free,
+        _ => CellState::Unknown,
+    };
+    for y in 0..5 {
+        for x in 0..7 {
+            m.set_state(x, y, want(x, y));
+        }
+    }
+    for y in 0..5 {
+        for x in 0..7 {
+            let e = match want(x, y) {
+                CellState::Occupied => LIMIT,
+                CellState::Free => FREE_LIMIT,
+                CellState::Unknown => 0,
+            };
+            assert_eq!(
+                (m.evidence(x, y), m.state(x, y)),
+                (e, want(x, y)),
+                "({x}, {y})"
+            );
+        }
+    }
+    // Off the map: unknown; and the map holds no more cells than its bytes.
+    assert_eq!(m.evidence(7, 0), 0);
+    assert!(m.reset(6, 6, 50).is_ok()); // 36 cells = 18 bytes
+    assert!(m.reset(37, 1, 50).is_err());
+}
+
+#[test]
+fn evidence_steps_of_four_bit_cells() {
+    // Cells of 100 mm; beams along the row y = 50 mm, from x = 50 mm.
+    let mut m: Box<EvidenceMap<{ evidence_bytes(20 * 1) }>> = Box::new(EvidenceMap::new());
+    m.reset(20, 1, 100).unwrap();
+    let (fx, fy) = m.cell_of(1050, 50);
+    // A well-seen free cell: three returns in it leave it not yet occupied,
+    // the fourth makes it occupied (a person stepping in).
+    m.set_state(fx, fy, CellState::Free);
+    for k in 1..=4 {
+        m.trace(50, 50, 1050, 50, true);
+        assert_eq!(m.state(fx, fy) == CellState::Occupied, k == 4, "hit {k}");
+    }
+    // A well-seen wall survives six beams through it; the seventh frees it.
+    for _ in 0..4 {
+        m.trace(50, 50, 1050, 50, true);
+    }
+    assert_eq!(m.evidence(fx, fy), robovac::robot::lidar_map::LIMIT);
+    for k in 1..=7 {
+        m.trace(50, 50, 1850, 50, true);
+        let free = m.state(fx, fy) == CellState::Free;
+        assert_eq!(free, k == 7, "miss {k}");
+    }
+    // A prior wall never changes.
+    let (wx, wy) = m.cell_of(1550, 50);
+    m.set_state(wx, wy, CellState::Occupied);
+    assert_eq!(m.freeze_prior(), 2); // the wall and the beam's last hit cell
+    for _ in 0..30 {
+        m.trace(50, 50, 1950, 50, true);
+    }
+    assert!(m.is_wall(wx, wy, true));
 }

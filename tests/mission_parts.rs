@@ -8,7 +8,7 @@ use robovac::nav::cspace::{self, build_fine, coarse_anchor, disc_blocked, update
 use robovac::nav::edge::{is_boundary, EdgePass, EdgeStep};
 use robovac::nav::geometry::segment_clear;
 use robovac::nav::guard::{free_distance_mm, limit_speed, GuardParams};
-use robovac::robot::lidar_map::{CellState, EvidenceMap};
+use robovac::robot::lidar_map::{evidence_bytes, CellState, EvidenceMap};
 use robovac::search::WindowSearch;
 
 type G = Grid<{ robovac::math::bits::words_for(120 * 100) }>;
@@ -59,8 +59,8 @@ fn guard_speed_brakes_in_time() {
 
 /// A 6 m × 5 m evidence map (50 mm cells): walls around, a 1 m × 0.6 m
 /// table in the middle, all else seen free.
-fn room() -> Box<EvidenceMap<{ 120 * 100 }>> {
-    let mut m = Box::new(EvidenceMap::<{ 120 * 100 }>::new());
+fn room() -> Box<EvidenceMap<{ evidence_bytes(120 * 100) }>> {
+    let mut m = Box::new(EvidenceMap::<{ evidence_bytes(120 * 100) }>::new());
     m.reset(120, 100, 50).unwrap();
     for cy in 0..100 {
         for cx in 0..120 {

@@ -6,7 +6,7 @@ use super::common::{fail, Meter};
 use robovac::robot::lidar::ld06::{encode, Ld06};
 use robovac::robot::lidar::scan::{Scan, ScanAssembler};
 use robovac::robot::lidar::LidarProtocol;
-use robovac::robot::lidar_map::{CellState, EvidenceMap, LidarMount};
+use robovac::robot::lidar_map::{evidence_bytes, CellState, EvidenceMap, LidarMount};
 use robovac::robot::odometry::{DriveGeometry, Odometry, Pose};
 
 /// LD06 bytes of a 3 m square room seen from its centre, parsed on the
@@ -14,7 +14,7 @@ use robovac::robot::odometry::{DriveGeometry, Odometry, Pose};
 /// measured.
 pub fn lidar_and_odometry(
     meter: &Meter,
-    evid: &mut EvidenceMap<{ 64 * 64 }>,
+    evid: &mut EvidenceMap<{ evidence_bytes(64 * 64) }>,
     asm: &mut ScanAssembler<40>,
     scan: &mut Scan<40>,
 ) {

@@ -19,8 +19,9 @@ pub const HOST_OPEN: usize = HOST_CELLS;
 pub const HOST_LCAP: usize = HOST_CELLS;
 /// Transit path buffer on the host.
 pub const HOST_PCAP: usize = HOST_CELLS;
-/// Evidence cells on the host (up to 75 m × 75 m at 5 cm).
-pub const HOST_EVIDENCE: usize = 1500 * 1500;
+/// Bytes of the host's evidence cells (up to 75 m × 75 m at 5 cm, two
+/// cells a byte).
+pub const HOST_EVIDENCE: usize = robovac::robot::lidar_map::evidence_bytes(1500 * 1500);
 /// Words of the scan matcher's coarse levels for the host evidence map.
 pub const HOST_MATCH_WORDS: usize = robovac::localize::matcher_words(1500, 1500);
 /// The host's scan matcher.

@@ -10,7 +10,7 @@ use robovac::grid::maps::SplitMix64;
 use robovac::localize::{fusion, Fusion, PoseU, ScanMatcher};
 use robovac::robot::lidar_map::EvidenceMap;
 
-const EV: usize = 400 * 400;
+const EV: usize = robovac::robot::lidar_map::evidence_bytes(400 * 400);
 const MW: usize = robovac::localize::matcher_words(400, 400);
 
 struct Bench {

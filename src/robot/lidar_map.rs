@@ -2,12 +2,16 @@
 //! planner's coarse grid is derived from it with the robot's footprint
 //! inflated.
 //!
-//! **Evidence.** Each cell holds a small signed counter: a beam passing
-//! through adds [`MISS`], a beam ending in it adds [`HIT`], clamped to
-//! ±[`LIMIT`]. A cell is occupied at ≥ [`OCCUPIED_AT`], free at ≤
-//! [`FREE_AT`], unknown in between. A well-seen free cell sits at −LIMIT,
-//! so one bad return (+3) leaves it free; a well-seen wall survives a
-//! missed return (−1) just as well.
+//! **Evidence.** Each cell holds a signed 4-bit counter (two cells a
+//! byte, so a 12 × 12 m home at 5 cm is 28,800 bytes, not 57,600): a beam
+//! passing through adds [`MISS`], a beam ending in it adds [`HIT`],
+//! clamped to [`FREE_LIMIT`]..=[`LIMIT`]. A cell is occupied at ≥
+//! [`OCCUPIED_AT`], free at ≤ [`FREE_AT`], unknown in between. A
+//! well-seen free cell sits at −8, so one bad return (+3) leaves it free
+//! and four in a row (a person stepping in) make it occupied; a well-seen
+//! wall (+6) survives six beams through it and turns free at the seventh
+//! (a chair moved away). The counters were bytes clamped to ±20 before
+//! issue 11 §3; 4 bits keep the same steps and a shorter memory.
 //!
 //! **Frames.** World coordinates are millimetres with x east and y north
 //! and the origin at the map's bottom-left corner; the robot's pose is in
@@ -28,8 +32,10 @@ use crate::robot::odometry::Pose;
 pub const HIT: i8 = 3;
 /// Evidence added by a beam passing through a cell.
 pub const MISS: i8 = -1;
-/// Counter limit.
-pub const LIMIT: i8 = 20;
+/// Upper counter limit (a well-seen wall).
+pub const LIMIT: i8 = 6;
+/// Lower counter limit (a well-seen free cell): the nibble's least value.
+pub const FREE_LIMIT: i8 = -8;
 /// Occupied at or above.
 pub const OCCUPIED_AT: i8 = 2;
 /// Free at or below.
@@ -39,7 +45,13 @@ pub const FREE_AT: i8 = -1;
 /// write itself into the map the robot localises against. What the lidar
 /// adds (people, a moved chair) lives in the other cells' counters, apart
 /// from it.
-pub const PRIOR_WALL: i8 = i8::MAX;
+pub const PRIOR_WALL: i8 = 7;
+
+/// Bytes of an evidence map of `cells` cells (two cells a byte): the
+/// const parameter of [`EvidenceMap`].
+pub const fn evidence_bytes(cells: usize) -> usize {
+    cells.div_ceil(2)
+}
 
 /// What the map says about a cell.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -88,29 +100,32 @@ impl LidarMount {
     }
 }
 
-/// A fine evidence grid of up to `N` cells.
+/// A fine evidence grid of `B` bytes: up to `2 × B` cells of 4 bits (size
+/// it with [`evidence_bytes`]).
 #[derive(Clone)]
-pub struct EvidenceMap<const N: usize> {
+pub struct EvidenceMap<const B: usize> {
     width: u32,
     height: u32,
     res_mm: u32,
-    counts: [i8; N],
+    /// Cell `i` is the low nibble of byte `i / 2` when `i` is even, the
+    /// high one when odd; two's complement.
+    nibbles: [u8; B],
 }
 
-impl<const N: usize> Default for EvidenceMap<N> {
+impl<const B: usize> Default for EvidenceMap<B> {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<const N: usize> EvidenceMap<N> {
+impl<const B: usize> EvidenceMap<B> {
     /// An empty 0×0 map.
     pub const fn new() -> Self {
         Self {
             width: 0,
             height: 0,
             res_mm: 1,
-            counts: [0; N],
+            nibbles: [0; B],
         }
     }
 
@@ -119,17 +134,18 @@ impl<const N: usize> EvidenceMap<N> {
         if width == 0 || height == 0 || res_mm == 0 {
             return Err(GridError::Empty);
         }
-        if width as u64 * height as u64 > N as u64 {
+        let cells = (B as u64).saturating_mul(2);
+        if width as u64 * height as u64 > cells {
             return Err(GridError::TooLarge {
                 width,
                 height,
-                capacity: N.min(u32::MAX as usize) as u32,
+                capacity: cells.min(u32::MAX as u64) as u32,
             });
         }
         self.width = width;
         self.height = height;
         self.res_mm = res_mm;
-        self.counts.iter_mut().for_each(|c| *c = 0);
+        self.nibbles.iter_mut().for_each(|c| *c = 0);
         Ok(())
     }
 
@@ -164,21 +180,43 @@ impl<const N: usize> EvidenceMap<N> {
 
     /// The evidence counter of a cell (0 off the map).
     pub fn evidence(&self, cx: i32, cy: i32) -> i8 {
-        self.index(cx, cy)
-            .and_then(|i| self.counts.get(i))
-            .copied()
-            .unwrap_or(0)
+        self.index(cx, cy).map_or(0, |i| self.get(i))
     }
 
-    /// Sets a cell to a definite state (a prior map): ±`LIMIT` evidence,
-    /// or 0 for unknown. Off the map: ignored.
+    /// Counter `i` (0 beyond the buffer).
+    fn get(&self, i: usize) -> i8 {
+        let byte = self.nibbles.get(i / 2).copied().unwrap_or(0);
+        let nib = if i.is_multiple_of(2) {
+            byte << 4
+        } else {
+            byte & 0xF0
+        };
+        // Sign-extend the nibble from the byte's top half.
+        (nib as i8) >> 4
+    }
+
+    /// Sets counter `i` to `v` (in −8..=7; beyond the buffer: ignored).
+    fn put(&mut self, i: usize, v: i8) {
+        if let Some(byte) = self.nibbles.get_mut(i / 2) {
+            let nib = (v as u8) & 0x0F;
+            *byte = if i.is_multiple_of(2) {
+                (*byte & 0xF0) | nib
+            } else {
+                (*byte & 0x0F) | (nib << 4)
+            };
+        }
+    }
+
+    /// Sets a cell to a definite state (a prior map): [`LIMIT`] or
+    /// [`FREE_LIMIT`] evidence, or 0 for unknown. Off the map: ignored.
     pub fn set_state(&mut self, cx: i32, cy: i32, st: CellState) {
-        if let Some(c) = self.index(cx, cy).and_then(|i| self.counts.get_mut(i)) {
-            *c = match st {
+        if let Some(i) = self.index(cx, cy) {
+            let v = match st {
                 CellState::Occupied => LIMIT,
-                CellState::Free => -LIMIT,
+                CellState::Free => FREE_LIMIT,
                 CellState::Unknown => 0,
             };
+            self.put(i, v);
         }
     }
 
@@ -195,9 +233,10 @@ impl<const N: usize> EvidenceMap<N> {
     }
 
     fn add(&mut self, cx: i32, cy: i32, d: i8) {
-        if let Some(c) = self.index(cx, cy).and_then(|i| self.counts.get_mut(i)) {
-            if *c != PRIOR_WALL {
-                *c = c.saturating_add(d).clamp(-LIMIT, LIMIT);
+        if let Some(i) = self.index(cx, cy) {
+            let c = self.get(i);
+            if c != PRIOR_WALL {
+                self.put(i, c.saturating_add(d).clamp(FREE_LIMIT, LIMIT));
             }
         }
     }
@@ -206,9 +245,10 @@ impl<const N: usize> EvidenceMap<N> {
     /// from now on. Returns the number of walls frozen.
     pub fn freeze_prior(&mut self) -> u32 {
         let mut n = 0;
-        for c in self.counts.iter_mut() {
-            if *c >= OCCUPIED_AT {
-                *c = PRIOR_WALL;
+        let cells = self.width as usize * self.height as usize;
+        for i in 0..cells {
+            if self.get(i) >= OCCUPIED_AT {
+                self.put(i, PRIOR_WALL);
                 n += 1;
             }
         }
