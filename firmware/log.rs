@@ -9,6 +9,7 @@
 //! dropped and counted instead, and the RTT block ([`super::rtt`]) is
 //! static.
 
+#[cfg(not(feature = "pil"))]
 use super::rtt;
 use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 
@@ -74,7 +75,11 @@ unsafe impl defmt::Logger for Logger {
 }
 
 /// Writes encoded bytes to the RTT channel (what does not fit is lost:
-/// the robot never waits for a probe).
+/// the robot never waits for a probe); on the sim-link board, to its log
+/// USART.
 fn put(bytes: &[u8]) {
+    #[cfg(not(feature = "pil"))]
     rtt::write(bytes);
+    #[cfg(feature = "pil")]
+    super::board::simlink::log_write(bytes);
 }

@@ -13,10 +13,92 @@
 mod board;
 #[cfg(target_os = "none")]
 mod log;
-#[cfg(target_os = "none")]
+#[cfg(all(target_os = "none", feature = "pil"))]
+mod pil;
+#[cfg(all(target_os = "none", not(feature = "pil")))]
 mod rtt;
+#[cfg(all(target_os = "none", feature = "pil"))]
+mod stack;
 
-#[cfg(target_os = "none")]
+/// The image with the sim-link board: the mission in the emulator, wired
+/// to host-sim (`host-sim mission --pil`).
+#[cfg(all(target_os = "none", feature = "pil"))]
+// cortex-m-rt turns each `static mut` of the entry point into an argument.
+#[allow(clippy::too_many_arguments)]
+mod pil_entry {
+    use super::{board, pil, stack};
+    use cortex_m_rt::entry;
+    use panic_probe as _;
+    use robovac::capacity::{
+        FwEvidence, FwFineGrid, FwMatcher, FwPlanGrid, FwPlanner, FwWindow, FW_FINE_PATH,
+    };
+    use robovac::coverage::PlannerKind;
+    use robovac::mission::{MapMode, Mission, MissionConfig};
+    use robovac::robot::lidar_map::LidarMount;
+    use robovac::robot::odometry::DriveGeometry;
+    use robovac::robot::wheel_control::WheelGains;
+    use robovac::Cell;
+
+    /// Replaced by the host's configuration before each mission
+    /// ([`Mission::configure`]).
+    const PLACEHOLDER: MissionConfig = MissionConfig::new(
+        MapMode::Unknown,
+        DriveGeometry {
+            ticks_per_rev: 1,
+            wheel_diameter_um: 1,
+            wheelbase_um: 1000,
+        },
+        WheelGains {
+            kff_q8: 0,
+            kp_q8: 0,
+            ki_q8: 0,
+            max_duty_pm: 0,
+            stall_duty_pm: 0,
+            stall_ms: 0,
+        },
+        LidarMount::ld06_centred(true),
+    );
+
+    #[entry]
+    fn main() -> ! {
+        static mut MISSION: Mission = Mission::new(PLACEHOLDER);
+        static mut PLANNER: FwPlanner = FwPlanner::new(PlannerKind::BOha);
+        static mut SEARCH: FwWindow = FwWindow::new();
+        static mut COARSE: FwPlanGrid = FwPlanGrid::new();
+        static mut FINE: FwFineGrid = FwFineGrid::new();
+        static mut MAP: FwEvidence = FwEvidence::new();
+        static mut PATH: [Cell; FW_FINE_PATH] = [Cell::new(0, 0); FW_FINE_PATH];
+        static mut MATCHER: FwMatcher = FwMatcher::new();
+
+        stack::paint();
+        let mut cp = match cortex_m::Peripherals::take() {
+            Some(cp) => cp,
+            None => loop {
+                cortex_m::asm::wfi();
+            },
+        };
+        let mut link = board::simlink::SimLink::new(&mut cp.SYST);
+        let meter = board::simlink::Meter::calibrate();
+        defmt::info!(
+            "meter: {} instructions per 1000 SysTick ticks",
+            meter.ratio()
+        );
+        defmt::info!("robovac sim-link image {}", env!("CARGO_PKG_VERSION"));
+        let buffers = pil::Buffers {
+            mission: MISSION,
+            planner: PLANNER,
+            search: SEARCH,
+            coarse: COARSE,
+            fine: FINE,
+            map: MAP,
+            path: PATH,
+            matcher: MATCHER,
+        };
+        pil::run(buffers, &mut link, &meter)
+    }
+}
+
+#[cfg(all(target_os = "none", not(feature = "pil")))]
 mod firmware {
     use super::{board, log};
     use cortex_m::peripheral::DWT;

@@ -25,6 +25,8 @@ ALLOWED = {
     "localize": {"math", "grid", "robot"},
     "nav": {"math", "grid", "search", "robot"},
     "mission": {"math", "grid", "search", "verify", "coverage", "robot", "nav", "localize"},
+    # The sim link's messages carry the mission's types.
+    "link": {"math", "grid", "robot", "nav", "localize", "mission"},
     # The top: the firmware's sizes of everything, the mission's buffers too.
     "capacity": {"math", "grid", "search", "coverage", "localize", "robot", "mission"},
 }

@@ -46,6 +46,8 @@
 //! - [`nav`]: configuration space, path follower, guard, DWA, edge pass.
 //! - [`mission`]: the executive that runs a cleaning mission from sensor
 //!   bytes to motor duties.
+//! - `link` (feature `link`): the sim link's framed messages between
+//!   host-sim and a firmware image in the emulator.
 //! - [`capacity`]: the firmware's sizes, asserted at compile time.
 //!
 //! The algorithms follow the project's digest `ALGORITHMS.md` (seed 000 for
@@ -62,6 +64,8 @@
 pub mod capacity;
 pub mod coverage;
 pub mod grid;
+#[cfg(feature = "link")]
+pub mod link;
 pub mod localize;
 pub mod math;
 pub mod mission;

@@ -151,7 +151,7 @@ fn four_bit_cells_hold_their_values_apart() {
 #[test]
 fn evidence_steps_of_four_bit_cells() {
     // Cells of 100 mm; beams along the row y = 50 mm, from x = 50 mm.
-    let mut m: Box<EvidenceMap<{ evidence_bytes(20 * 1) }>> = Box::new(EvidenceMap::new());
+    let mut m: Box<EvidenceMap<{ evidence_bytes(20) }>> = Box::new(EvidenceMap::new());
     m.reset(20, 1, 100).unwrap();
     let (fx, fy) = m.cell_of(1050, 50);
     // A well-seen free cell: three returns in it leave it not yet occupied,

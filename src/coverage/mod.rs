@@ -74,6 +74,7 @@ use rules::{ListRule, LocalMove, Priority, Rules};
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[repr(u8)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum PlannerKind {
     /// B-OHA*, seed 000 (ALGORITHMS.md §1).
     BOha = 0,

@@ -67,6 +67,7 @@ pub const RELOC_MARGIN_PCT: u32 = 8;
 /// What localisation counted.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct LocStats {
     /// Revolutions matched.
     pub matches: u32,

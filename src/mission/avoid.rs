@@ -8,7 +8,7 @@ use super::{Activity, Mission, RING};
 use crate::nav::cspace;
 use crate::nav::dwa::{self, DwaResult, MAX_OBSTACLES};
 use crate::nav::follow::SubPath;
-use crate::nav::geometry::{dist_mm, in_corridor, segment_clear, to_robot};
+use crate::nav::geometry::{dist_mm, in_corridor, segment_clear, RobotFrame};
 use crate::nav::guard::free_distance_mm;
 use crate::robot::lidar_map::CellState;
 use crate::robot::odometry::Pose;
@@ -91,8 +91,9 @@ sized_impl!([] {
         // Unmapped points (maybe people) are moved closer by the guard's
         // extra margin, so DWA keeps the berth the guard will insist on.
         let extra = m.cfg.guard.moving_margin_mm as i64;
+        let frame = RobotFrame::of(pose);
         for &(x, y, mapped) in m.lidar.ring.as_slice() {
-            let (rx, ry) = to_robot(pose, (x, y));
+            let (rx, ry) = frame.to_robot((x, y));
             let q = if mapped {
                 (rx, ry)
             } else {
@@ -118,7 +119,7 @@ sized_impl!([] {
                     let c = cspace::fine_centre_mm(map, x, y);
                     match all.get_mut(n) {
                         Some(s) if n < RING + MAP_POINTS => {
-                            *s = to_robot(pose, c);
+                            *s = frame.to_robot(c);
                             n += 1;
                         }
                         _ => break 'grid,
@@ -128,7 +129,7 @@ sized_impl!([] {
         }
         let mut obs = [(0i32, 0i32); MAX_OBSTACLES];
         let k = dwa::nearest_obstacles(all.get(..n).unwrap_or(&[]), &mut obs);
-        let goal = to_robot(pose, goal_world);
+        let goal = frame.to_robot(goal_world);
         m.dwa_cmd = match dwa::plan(
             &m.cfg.dwa,
             m.cmd.0.max(0),
@@ -180,14 +181,15 @@ impl Mission {
             theta_mrad: (toward / 1000) as i32,
         };
         let g = self.cfg.guard;
+        let frame = RobotFrame::of(&facing);
         let fs = free_distance_mm(
-            self.points_where(true).map(|q| to_robot(&facing, q)),
+            self.points_where(true).map(|q| frame.to_robot(q)),
             g.radius_mm,
             true,
         ) as i64
             - g.reserve_mm as i64;
         let fm = free_distance_mm(
-            self.points_where(false).map(|q| to_robot(&facing, q)),
+            self.points_where(false).map(|q| frame.to_robot(q)),
             g.radius_mm + g.moving_margin_mm,
             true,
         ) as i64

@@ -29,6 +29,7 @@ pub const MAX_RETRIES: u32 = 400;
 /// Where the map comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum MapMode {
     /// A prior map is given (seed 002's setting).
     Known,
@@ -39,6 +40,7 @@ pub enum MapMode {
 /// Why a mission failed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Fault {
     /// No two complete lidar revolutions within the self-test's 3 s.
     SelfTestLidar,
@@ -74,6 +76,7 @@ impl Fault {
 /// What the executive is doing.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum State {
     /// Checking lidar and wheels.
     SelfTest,
@@ -105,6 +108,7 @@ pub enum State {
 /// Motor output for this tick.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum MotorCmd {
     /// Duties, permille.
     Duty(i16, i16),
@@ -115,6 +119,7 @@ pub enum MotorCmd {
 /// Everything tunable, units in the names.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct MissionConfig {
     /// Map mode.
     pub mode: MapMode,
@@ -275,6 +280,7 @@ impl MissionConfig {
 /// Event counters.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Counters {
     /// Avoidances started.
     pub avoidance_events: u32,

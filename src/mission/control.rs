@@ -13,7 +13,7 @@ use super::handoff::Note;
 use super::{Activity, Capacity, EventKind, Fault, Mission, MotorCmd, Phase};
 use crate::nav::cspace;
 use crate::nav::follow::{follow, FollowCmd};
-use crate::nav::geometry::to_robot;
+use crate::nav::geometry::RobotFrame;
 use crate::nav::guard::{free_distance_slack_mm, limit_speed, GuardParams};
 use crate::robot::odometry::Pose;
 
@@ -249,8 +249,9 @@ impl Mission {
         let close = (self.cfg.radius_mm + self.cfg.escape_mm) as i64;
         let slack = self.cfg.guard.mapped_slack_mm as i64;
         let (mut n_close, mut sum_x) = (0i64, 0i64);
+        let frame = RobotFrame::of(pose);
         for &(qx, qy, mapped) in self.lidar.ring.as_slice() {
-            let (x, y) = to_robot(pose, (qx, qy));
+            let (x, y) = frame.to_robot((qx, qy));
             let c = if mapped { close - slack } else { close };
             if (x as i64).pow(2) + (y as i64).pow(2) < c * c {
                 n_close += 1;
@@ -283,7 +284,8 @@ impl Mission {
             [*pose, turned]
                 .iter()
                 .map(|p| {
-                    let pts = self.points_where(mapped).map(|q| to_robot(p, q));
+                    let frame = RobotFrame::of(p);
+                    let pts = self.points_where(mapped).map(|q| frame.to_robot(q));
                     free_distance_slack_mm(pts, radius, slack, v > 0)
                 })
                 .min()

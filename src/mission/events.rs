@@ -17,6 +17,7 @@ pub const EVENTS: usize = 32;
 /// A capacity that was exceeded without failing the mission.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Capacity {
     /// The control-to-plan hand-off was full: a note was dropped (the
     /// planning task fell behind).
@@ -26,6 +27,7 @@ pub enum Capacity {
 /// What happened.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum EventKind {
     /// The state (as [`super::Mission::state`] reports it) changed.
     State {
@@ -63,6 +65,7 @@ pub enum EventKind {
 /// An event and when it happened.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Event {
     /// Time, µs (the caller's clock).
     pub at_us: u64,

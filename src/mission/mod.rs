@@ -330,8 +330,22 @@ impl Mission {
         }
     }
 
+    /// Before [`Mission::begin`]: takes `cfg` as [`Mission::new`] would
+    /// have (the odometry and the wheel controllers follow its geometry
+    /// and gains). For a firmware whose mission lives in a static built
+    /// with a default configuration: building a new one would need its
+    /// whole size (about 20 KB) on the stack.
+    pub fn configure(&mut self, cfg: MissionConfig) {
+        self.cfg = cfg;
+        self.drive.odom = Odometry::new(cfg.geometry);
+        self.drive.wheels = WheelControl::new(cfg.gains, (cfg.geometry.wheelbase_um / 1000) as i32);
+    }
+
     /// Starts a mission at `start` (world mm, mrad: the dock's place on
-    /// the map). Known mode: `parts.map` already holds the prior map.
+    /// the map), on an executive fresh from [`Mission::new`] (or a static's
+    /// first [`Mission::configure`]): it is not reset here, since building
+    /// a new one would take its whole size of stack; the firmware runs one
+    /// mission per boot. Known mode: `parts.map` already holds the prior map.
     /// Unknown mode: the caller has sized `parts.map` (all unknown).
     pub fn begin(&mut self, parts: &mut (impl MissionParts + ?Sized), start: Pose) {
         parts.begin(self, start);

@@ -1,7 +1,7 @@
 //! The planning step (10 Hz): the hand-off replayed, the battery, the
 //! guard's hold, and the one dispatch on the phase; the self-test.
 
-use super::{seg_to, Activity, Fault, MapMode, Mission, Phase};
+use super::{seg_to, Activity, Fault, MapMode, Phase};
 use crate::nav::cspace;
 use crate::nav::geometry::segment_clear;
 use crate::robot::odometry::Pose;
@@ -9,8 +9,11 @@ use crate::robot::odometry::Pose;
 sized_impl!([] {
     /// The body of [`Mission::begin`].
     pub(super) fn begin(&mut self, start: Pose) {
+        // No `*self.m = Mission::new(cfg)` here: that builds the whole
+        // executive (about 20 KB) on the stack, more than the firmware's
+        // stack has (found by the processor-in-the-loop run). A mission
+        // begins on a fresh executive (see `Mission::begin`).
         let cfg = self.m.cfg;
-        *self.m = Mission::new(cfg);
         let m = &mut *self.m;
         m.drive
             .odom

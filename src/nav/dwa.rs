@@ -38,6 +38,7 @@ pub const MAX_OBSTACLES: usize = 64;
 /// DWA parameters (units in the names).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct DwaParams {
     /// Slowest forward speed, mm/s (0 allows stopping).
     pub v_min_mm_s: i32,

@@ -48,6 +48,7 @@ pub enum EdgeStep {
 /// Counters.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct EdgeStats {
     /// Reachable boundary cells visited.
     pub visited: u32,

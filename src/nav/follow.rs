@@ -23,6 +23,7 @@ pub struct SubPath {
 /// Follower tuning.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct FollowParams {
     /// Cruise speed, mm/s.
     pub cruise_mm_s: i32,

@@ -15,6 +15,7 @@ use crate::math::cost::isqrt_u64;
 /// Guard tuning.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct GuardParams {
     /// Body radius plus the lateral margin of the swept corridor, mm.
     pub radius_mm: i32,

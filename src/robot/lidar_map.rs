@@ -68,6 +68,7 @@ pub enum CellState {
 /// Where the lidar sits on the robot and how its angles run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct LidarMount {
     /// Forward offset from the robot's centre, mm.
     pub offset_x_mm: i32,

@@ -24,6 +24,7 @@ use crate::math::angle::sin_cos_q30;
 /// The wheels and encoders.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct DriveGeometry {
     /// Encoder ticks per wheel revolution (after quadrature decoding).
     pub ticks_per_rev: u32,
@@ -53,6 +54,7 @@ impl DriveGeometry {
 /// A pose: position in mm and heading in mrad (wrapped to (−π, π]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Pose {
     /// x, mm.
     pub x_mm: i32,

@@ -13,6 +13,7 @@
 /// Gains and limits.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct WheelGains {
     /// Feed-forward, duty permille per mm/s, Q8.
     pub kff_q8: i32,

@@ -33,6 +33,7 @@ fn cmd_demo() -> Result<(), String> {
         localize: true,
         firmware_order: false,
         capacity: Default::default(),
+        pil: None,
     };
     println!(
         "robovac demo: the firmware's mission executive cleans a 9.6 m × 7.2 m furnished flat"

@@ -56,6 +56,21 @@ pub struct Args {
     /// (`fw`: the chip's capacities, so the figures are the robot's).
     #[arg(long, value_enum, default_value_t)]
     pub capacity: host_sim::run::parts::Capacity,
+    /// Processor-in-the-loop: run the firmware image built with the
+    /// sim-link board (`scripts/pil.sh` builds it) in QEMU's netduinoplus2
+    /// instead of the core in this process. Needs qemu-system-arm.
+    #[arg(long)]
+    pub pil: bool,
+    /// The sim-link firmware image for --pil.
+    #[arg(
+        long,
+        default_value = "target/pil/thumbv7em-none-eabihf/release/robovac"
+    )]
+    pub pil_elf: PathBuf,
+    /// Write the firmware's raw defmt log here (--pil); decode it with
+    /// `defmt-print -e ELF < FILE`.
+    #[arg(long)]
+    pub pil_log: Option<PathBuf>,
 }
 
 /// Runs the command.
@@ -77,7 +92,16 @@ pub fn run(a: Args) -> Result<(), String> {
         kidnap,
         no_localize,
         capacity,
+        pil,
+        pil_elf,
+        pil_log,
     } = a;
+    if pil && !pil_elf.is_file() {
+        return Err(format!(
+            "--pil: no firmware image at {} (build it with scripts/pil.sh)",
+            pil_elf.display()
+        ));
+    }
     if kidnap.is_some_and(|t| !(t.is_finite() && t >= 0.0)) {
         return Err("--kidnap must be a time in seconds, 0 or more".into());
     }
@@ -103,6 +127,10 @@ pub fn run(a: Args) -> Result<(), String> {
         localize: !no_localize,
         firmware_order,
         capacity,
+        pil: pil.then_some(host_sim::run::pil::PilOptions {
+            elf: pil_elf,
+            log: pil_log,
+        }),
     };
     cmd_mission(
         &opts,

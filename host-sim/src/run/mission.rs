@@ -5,7 +5,7 @@
 
 use std::time::Instant;
 
-use super::mission_debug::{debug_collision, debug_grid, debug_tick};
+use super::executive::{Executive, Native};
 
 use robovac::coverage::PlannerKind;
 use robovac::mission::{MapMode, Mission, MissionConfig, MissionParts, MotorCmd, State};
@@ -62,6 +62,9 @@ pub struct MissionOptions {
     pub firmware_order: bool,
     /// Whose buffers the executive runs in.
     pub capacity: Capacity,
+    /// Run the firmware image in the emulator instead of the core in this
+    /// process (processor-in-the-loop; at the firmware's capacity).
+    pub pil: Option<super::pil::PilOptions>,
 }
 
 /// What a mission measured (its JSON: these fields, plus `sim_speed` and
@@ -135,6 +138,9 @@ pub struct MissionReport {
     err_sq: (f64, f64, u64),
     /// Simulated time spent in each state, s.
     pub state_time_s: std::collections::BTreeMap<String, f64>,
+    /// Processor-in-the-loop: what the firmware measured on itself.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub firmware: Option<super::pil::FirmwareFigures>,
 }
 
 /// Tracks for the picture.
@@ -175,6 +181,17 @@ pub fn run_mission(
     let mut floor = Floor::new(&sim.world, start, r, 0.05);
     let mut mission = Box::new(Mission::new(mission_config(opts, &cfg, r)));
     let known = opts.mode == MapMode::Known;
+    if let Some(pil) = &opts.pil {
+        let mut fp = FwHostParts::new(opts.kind);
+        fill_prior(&mut fp.map, &sim.world, EVIDENCE_MM, known)?;
+        let cfg = mission_config(opts, &sim.cfg.clone(), r);
+        let mut exec = super::pil::Pil::start(&pil.elf, pil.log.as_deref(), cfg, &fp.map)?;
+        drop(fp);
+        let (mut rep, trace) = drive(opts, &mut sim, &mut floor, &mut exec, pose, progress)?;
+        rep.wall_time_s = t0.elapsed().as_secs_f64();
+        rep.firmware = exec.report.map(super::pil::FirmwareFigures::from);
+        return Ok((rep, trace, floor));
+    }
     // The buffers of the capacity asked for, lent to the executive.
     let (mut hp, mut fp, mut host, mut fw);
     let parts: &mut dyn MissionParts = match opts.capacity {
@@ -191,35 +208,31 @@ pub fn run_mission(
             &mut fw
         }
     };
-    let (rep, trace) = drive(
-        opts,
-        &mut sim,
-        &mut floor,
-        &mut mission,
+    let mut exec = Native {
+        mission: &mut mission,
         parts,
-        pose,
-        progress,
-    );
-    let mut rep = rep;
+        firmware_order: opts.firmware_order,
+    };
+    let (mut rep, trace) = drive(opts, &mut sim, &mut floor, &mut exec, pose, progress)?;
     rep.wall_time_s = t0.elapsed().as_secs_f64();
     Ok((rep, trace, floor))
 }
 
-/// The mission's loop on the buffers given, until it ends or time is up.
-fn drive(
+/// The mission's loop with the executive given, until it ends or time is
+/// up.
+pub(crate) fn drive(
     opts: &MissionOptions,
     sim: &mut Sim,
     floor: &mut Floor,
-    mission: &mut Mission,
-    parts: &mut dyn MissionParts,
+    mission: &mut dyn Executive,
     pose: (f64, f64, f64),
     mut progress: impl FnMut(f64, State, f64),
-) -> (MissionReport, MissionTrace) {
+) -> Result<(MissionReport, MissionTrace), String> {
     let cfg = sim.cfg.clone();
     let r = cfg.diameter_m / 2.0;
     let start = (pose.0, pose.1);
-    mission.begin(parts, given_dock(opts, pose));
-    debug_grid(parts, false);
+    mission.begin(given_dock(opts, pose))?;
+    mission.debug_grid(false);
     let mut rep = MissionReport {
         min_clearance_m: f64::INFINITY,
         min_wall_clearance_m: f64::INFINITY,
@@ -239,17 +252,17 @@ fn drive(
             kidnap_us = None;
             trace.kidnap = sim.kidnap().map(|p| (sim.t_us as f64 * 1e-6, p));
         }
-        control_period(sim, mission, parts, opts);
+        control_period(sim, mission, opts)?;
         while let Some(e) = mission.pop_event() {
             trace.events.push(e);
         }
         if trace_on && sim.collisions.len() > seen_collisions {
             seen_collisions = sim.collisions.len();
-            debug_collision(sim, mission);
+            mission.debug_collision(sim);
         }
         measure(sim, mission, floor, &mut rep, &mut trace, r);
         if trace_on && sim.t_us.is_multiple_of(1_000_000) {
-            debug_tick(sim, mission, parts);
+            mission.debug_tick(sim);
         }
         if sim.t_us >= next_progress {
             next_progress += 10_000_000;
@@ -257,7 +270,8 @@ fn drive(
         }
     }
     progress(sim.t_us as f64 * 1e-6, mission.state(), floor.coverage());
-    debug_grid(parts, true);
+    mission.end()?;
+    mission.debug_grid(true);
     finish_report(&mut rep, mission, sim, floor, pose, &cfg);
     trace.truth = std::mem::take(&mut sim.trajectory);
     trace.people = sim.world.people.iter().map(|p| p.track.clone()).collect();
@@ -266,7 +280,7 @@ fn drive(
         .iter()
         .map(|c| (c.pos, c.by_person))
         .collect();
-    (rep, trace)
+    Ok((rep, trace))
 }
 
 /// The executive's configuration for this robot. Its margins follow its
@@ -284,18 +298,18 @@ fn mission_config(opts: &MissionOptions, cfg: &RobotConfig, r: f64) -> MissionCo
 }
 
 /// One control period: physics, the lidar bytes that arrived (unless in
-/// the requested gap), then the executive's tick and the motors.
+/// the requested gap), then the executive's period and the motors.
 fn control_period(
     sim: &mut Sim,
-    mission: &mut Mission,
-    parts: &mut dyn MissionParts,
+    mission: &mut dyn Executive,
     opts: &MissionOptions,
-) {
+) -> Result<(), String> {
     let steps = sim.cfg.control_period_us / sim.cfg.physics_step_us;
     for _ in 0..steps {
         sim.step();
     }
     let mut buf = [0u8; 512];
+    let mut lidar = Vec::new();
     loop {
         let n = sim.read(&mut buf);
         if n == 0 {
@@ -304,28 +318,22 @@ fn control_period(
         let t = sim.t_us as f64 * 1e-6;
         let silent = opts.lidar_gap_s.is_some_and(|(a, b)| t >= a && t < b);
         if !silent {
-            mission.feed_lidar(parts, buf.get(..n).unwrap_or(&[]), sim.t_us);
+            lidar.extend_from_slice(buf.get(..n).unwrap_or(&[]));
         }
     }
-    let (l, rr) = sim.read_encoders();
-    let cmd = if opts.firmware_order {
-        let cmd = mission.control(sim.t_us, (l, rr));
-        mission.plan(parts, sim.t_us);
-        cmd
-    } else {
-        mission.tick(parts, sim.t_us, (l, rr))
-    };
-    match cmd {
+    let enc = sim.read_encoders();
+    match mission.period(sim.t_us, &lidar, enc)? {
         MotorCmd::Duty(a, b) => sim.set_duty(a, b),
         MotorCmd::Brake => sim.brake(),
     }
+    Ok(())
 }
 
 /// Truth measurements after a period: time per state, floor swept,
 /// clearances, where avoidances started.
 fn measure(
     sim: &Sim,
-    mission: &Mission,
+    mission: &dyn Executive,
     floor: &mut Floor,
     rep: &mut MissionReport,
     trace: &mut MissionTrace,
@@ -355,7 +363,12 @@ fn measure(
 }
 
 /// The estimate against the truth, accumulated every period.
-fn pose_error(sim: &Sim, mission: &Mission, rep: &mut MissionReport, trace: &mut MissionTrace) {
+fn pose_error(
+    sim: &Sim,
+    mission: &dyn Executive,
+    rep: &mut MissionReport,
+    trace: &mut MissionTrace,
+) {
     if mission.state() == State::SelfTest {
         // Measured from the start of cleaning: the self-test's first
         // revolution relocalises the dock pose a person gave within
@@ -386,7 +399,7 @@ fn pose_error(sim: &Sim, mission: &Mission, rep: &mut MissionReport, trace: &mut
 /// The report's end-of-mission fields.
 fn finish_report(
     rep: &mut MissionReport,
-    mission: &Mission,
+    mission: &dyn Executive,
     sim: &Sim,
     floor: &Floor,
     (sx, sy, start_heading): (f64, f64, f64),

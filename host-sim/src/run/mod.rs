@@ -4,8 +4,10 @@
 pub mod bench;
 pub mod dock;
 pub mod drive;
+pub mod executive;
 pub mod mission;
 pub mod mission_debug;
 pub mod parts;
+pub mod pil;
 pub mod plan;
 pub mod suite;

@@ -141,6 +141,7 @@ pub fn run_suite(
                 localize: true,
                 firmware_order: false,
                 capacity: Default::default(),
+                pil: None,
             };
             run_mission(&opts, |_, _, _| {}).map(|(rep, _, _)| rep)
         });

@@ -55,6 +55,7 @@ impl LidarFrame {
 /// What a parser dropped, and why.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ParserStats {
     /// Frames accepted.
     pub frames: u32,

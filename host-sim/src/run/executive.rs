@@ -1,0 +1,106 @@
+//! Who runs the mission in a host mission: the core's executive in this
+//! process ([`Native`]), or the firmware image in the emulator over the
+//! sim link ([`super::pil::Pil`]). The loop, the physics and the
+//! measurements are the same for both.
+
+use robovac::localize::LocStats;
+use robovac::mission::{Counters, Event, Mission, MissionParts, MotorCmd, State};
+use robovac::robot::odometry::Pose;
+
+use super::mission_debug::{debug_collision, debug_grid, debug_tick};
+use crate::sim::robot::Sim;
+
+/// The executive as the mission loop sees it.
+pub trait Executive {
+    /// Starts the mission at the dock's given pose.
+    fn begin(&mut self, dock: Pose) -> Result<(), String>;
+    /// One control period: the lidar bytes that arrived in it (possibly
+    /// none), the encoders' raw counts; the motor command.
+    fn period(&mut self, t_us: u64, lidar: &[u8], enc: (u16, u16)) -> Result<MotorCmd, String>;
+    /// The next event, oldest first.
+    fn pop_event(&mut self) -> Option<Event>;
+    /// The mission is over.
+    fn finished(&self) -> bool;
+    /// The executive's state.
+    fn state(&self) -> State;
+    /// Its pose estimate.
+    fn pose(&self) -> Pose;
+    /// Localisation has lost the robot.
+    fn lost(&self) -> bool;
+    /// Its counters (over the sim link, only avoidances until the end).
+    fn counters(&self) -> Counters;
+    /// Localisation's counters.
+    fn loc_stats(&self) -> LocStats;
+    /// The mission loop has ended (the firmware sends its report).
+    fn end(&mut self) -> Result<(), String> {
+        Ok(())
+    }
+    /// `ROBOVAC_DEBUG_TRACE` output: the grids at the start and end.
+    fn debug_grid(&self, _covered: bool) {}
+    /// `ROBOVAC_DEBUG_TRACE` output: a collision.
+    fn debug_collision(&self, _sim: &Sim) {}
+    /// `ROBOVAC_DEBUG_TRACE` output: every simulated second.
+    fn debug_tick(&self, _sim: &Sim) {}
+}
+
+/// The core's executive in this process, in the buffers given.
+pub struct Native<'a> {
+    /// The executive.
+    pub mission: &'a mut Mission,
+    /// Its buffers.
+    pub parts: &'a mut dyn MissionParts,
+    /// `control` then `plan` (the firmware's order) instead of `tick`.
+    pub firmware_order: bool,
+}
+
+impl Executive for Native<'_> {
+    fn begin(&mut self, dock: Pose) -> Result<(), String> {
+        self.mission.begin(self.parts, dock);
+        Ok(())
+    }
+
+    fn period(&mut self, t_us: u64, lidar: &[u8], enc: (u16, u16)) -> Result<MotorCmd, String> {
+        // In the chunks the UART model delivers (as before the sim link).
+        for chunk in lidar.chunks(512) {
+            self.mission.feed_lidar(self.parts, chunk, t_us);
+        }
+        Ok(if self.firmware_order {
+            let cmd = self.mission.control(t_us, enc);
+            self.mission.plan(self.parts, t_us);
+            cmd
+        } else {
+            self.mission.tick(self.parts, t_us, enc)
+        })
+    }
+
+    fn pop_event(&mut self) -> Option<Event> {
+        self.mission.pop_event()
+    }
+    fn finished(&self) -> bool {
+        self.mission.finished()
+    }
+    fn state(&self) -> State {
+        self.mission.state()
+    }
+    fn pose(&self) -> Pose {
+        self.mission.pose()
+    }
+    fn lost(&self) -> bool {
+        self.mission.lost()
+    }
+    fn counters(&self) -> Counters {
+        self.mission.counters()
+    }
+    fn loc_stats(&self) -> LocStats {
+        self.mission.loc_stats()
+    }
+    fn debug_grid(&self, covered: bool) {
+        debug_grid(self.parts, covered);
+    }
+    fn debug_collision(&self, sim: &Sim) {
+        debug_collision(sim, self.mission);
+    }
+    fn debug_tick(&self, sim: &Sim) {
+        debug_tick(sim, self.mission, self.parts);
+    }
+}

@@ -1,0 +1,74 @@
+#!/usr/bin/env python3
+"""Processor-in-the-loop against the host: runs one mission natively
+(the firmware's capacity and call order) and with the firmware image in
+QEMU (--pil), prints both side by side, and fails unless the firmware
+covers the same floor within 1 point, collides no more than the host,
+and, for a whole mission, docks as the host does.
+
+Usage: pil_compare.py HOST_SIM ELF [host-sim mission options...]
+(build the image first: scripts/pil.sh does, or
+ CARGO_TARGET_DIR=target/pil cargo build --release \
+   --target thumbv7em-none-eabihf --bin robovac --features pil)
+"""
+import json
+import subprocess
+import sys
+import tempfile
+import time
+
+
+def run(cmd):
+    t0 = time.monotonic()
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+    return time.monotonic() - t0
+
+
+def main():
+    if len(sys.argv) < 3:
+        print(__doc__.strip().splitlines()[-4], file=sys.stderr)
+        return 2
+    host_sim, elf, args = sys.argv[1], sys.argv[2], sys.argv[3:]
+    out = {}
+    with tempfile.TemporaryDirectory() as d:
+        for name, extra in (("host", ["--capacity", "fw", "--firmware-order"]),
+                            ("firmware", ["--pil", "--pil-elf", elf])):
+            path = f"{d}/{name}.json"
+            wall = run([host_sim, "mission", *args, *extra, "--json", path])
+            out[name] = json.load(open(path))
+            out[name]["wall_s"] = wall
+    h, f = out["host"], out["firmware"]
+    rows = [("coverage %", lambda r: f"{100 * r['coverage']:.2f}"),
+            ("collisions", lambda r: r["collisions"]),
+            ("finished", lambda r: r["finished"]),
+            ("docked", lambda r: r["docked"]),
+            ("final state", lambda r: r["final_state"]),
+            ("distance m", lambda r: f"{r['distance_m']:.2f}"),
+            ("mission time s", lambda r: f"{r['sim_time_s']:.1f}"),
+            ("wall time s", lambda r: f"{r['wall_s']:.1f}")]
+    print(f"{'':16}{'host':>14}{'firmware':>14}")
+    for label, get in rows:
+        print(f"{label:16}{str(get(h)):>14}{str(get(f)):>14}")
+    fw = f.get("firmware") or {}
+    budget = 840_000
+    for key in ("worst_control_insn", "worst_lidar_insn", "worst_plan_insn"):
+        if key in fw:
+            print(f"{key:22}{fw[key]:>12} instructions"
+                  f" ({100 * fw[key] / budget:.1f} % of a 10 ms period at 84 MHz)")
+    if "stack_used_bytes" in fw:
+        print(f"stack high-water       {fw['stack_used_bytes']:>12} of {fw['stack_size_bytes']} bytes")
+    bad = []
+    if abs(h["coverage"] - f["coverage"]) > 0.01:
+        bad.append("coverage differs by more than 1 point")
+    if f["collisions"] > h["collisions"]:
+        bad.append("the firmware collided more")
+    if h["finished"] and not (f["finished"] and f["docked"] == h["docked"]):
+        bad.append("the host's mission ended at the dock, the firmware's did not")
+    if not fw:
+        bad.append("no report from the firmware")
+    for b in bad:
+        print("FAIL:", b)
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
