@@ -9,7 +9,7 @@
 //! dropped and counted instead, and the RTT block ([`super::rtt`]) is
 //! static.
 
-#[cfg(not(feature = "pil"))]
+#[cfg(not(any(feature = "pil", feature = "log-serial")))]
 use super::rtt;
 use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 
@@ -78,8 +78,10 @@ unsafe impl defmt::Logger for Logger {
 /// the robot never waits for a probe); on the sim-link board, to its log
 /// USART.
 fn put(bytes: &[u8]) {
-    #[cfg(not(feature = "pil"))]
+    #[cfg(not(any(feature = "pil", feature = "log-serial")))]
     rtt::write(bytes);
+    #[cfg(all(not(feature = "pil"), feature = "log-serial"))]
+    super::board::serial_log::write(bytes);
     #[cfg(feature = "pil")]
     super::board::simlink::log_write(bytes);
 }

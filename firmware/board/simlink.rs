@@ -111,7 +111,7 @@ impl SimLink {
                         return m;
                     }
                 }
-                None => cortex_m::asm::wfi(),
+                None => cortex_m::asm::nop(),
             }
         }
     }
@@ -131,7 +131,7 @@ impl SimLink {
                     }
                     got += 1;
                 }
-                None => cortex_m::asm::wfi(),
+                None => cortex_m::asm::nop(),
             }
         }
         got.min(buf.len())

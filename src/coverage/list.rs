@@ -106,7 +106,13 @@ impl<const LCAP: usize, const NW: usize> BacktrackList<LCAP, NW> {
         }
         self.in_list.put(i, false);
         if let Some(k) = self.items.iter().position(|&p| p == c) {
-            self.items.swap_remove(k);
+            // swap_remove without its assert (a panicking branch in the
+            // firmware): the last item takes slot k.
+            if let Some(last) = self.items.pop() {
+                if let Some(slot) = self.items.get_mut(k) {
+                    *slot = last;
+                }
+            }
         }
     }
 
@@ -125,7 +131,13 @@ impl<const LCAP: usize, const NW: usize> BacktrackList<LCAP, NW> {
             if let Some(i) = grid.index(c.x as i32, c.y as i32) {
                 self.in_list.put(i, false);
             }
-            self.items.swap_remove(k);
+            // swap_remove without its assert (a panicking branch in the
+            // firmware): the last item takes slot k.
+            if let Some(last) = self.items.pop() {
+                if let Some(slot) = self.items.get_mut(k) {
+                    *slot = last;
+                }
+            }
         }
     }
 

@@ -498,7 +498,15 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
             t
         };
         if m < t {
-            self.path.copy_within(t..n, m);
+            // Forward copy (m < t); `get` keeps the firmware free of
+            // panicking branches (copy_within checks its ranges).
+            for i in 0..n.saturating_sub(t) {
+                if let Some(&c) = self.path.get(t + i) {
+                    if let Some(d) = self.path.get_mut(m + i) {
+                        *d = c;
+                    }
+                }
+            }
         }
         // path[1..m] are transit waypoints, path[m..] cover moves.
         self.transit_end = m;

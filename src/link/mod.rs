@@ -153,7 +153,7 @@ impl<const N: usize> FrameReader<N> {
 
     fn decode<T: DeserializeOwned>(&mut self, len: usize) -> Result<T, LinkError> {
         let frame = self.buf.get_mut(..len).ok_or(LinkError::TooLong)?;
-        let n = cobs::decode_in_place(frame).map_err(|_| LinkError::Framing)?;
+        let n = cobs_decode_in_place(frame).ok_or(LinkError::Framing)?;
         let body = frame.get(..n).ok_or(LinkError::Framing)?;
         let split = n.checked_sub(2).ok_or(LinkError::Crc)?;
         let (msg, crc) = body.split_at(split);
@@ -178,4 +178,32 @@ impl<const N: usize> FrameReader<N> {
         };
         *c = c.wrapping_add(1);
     }
+}
+
+/// COBS decoding in place (a frame without its zero delimiter); None for a
+/// malformed frame. Written here rather than taken from the cobs crate
+/// (which encodes for us): its decoder indexes with bounds checks the
+/// compiler cannot remove, two panicking branches in the firmware image
+/// (issue 11 §6). The output never overtakes the input, so in place is
+/// safe.
+fn cobs_decode_in_place(buf: &mut [u8]) -> Option<usize> {
+    let (mut src, mut dst) = (0usize, 0usize);
+    while src < buf.len() {
+        let code = *buf.get(src)?;
+        if code == 0 {
+            return None;
+        }
+        src += 1;
+        for _ in 1..code {
+            let b = *buf.get(src)?;
+            *buf.get_mut(dst)? = b;
+            src += 1;
+            dst += 1;
+        }
+        if code != 0xFF && src < buf.len() {
+            *buf.get_mut(dst)? = 0;
+            dst += 1;
+        }
+    }
+    Some(dst)
 }

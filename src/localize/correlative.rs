@@ -259,7 +259,8 @@ pub fn global<const EV: usize>(
 ) -> TopK {
     let mut top = TopK::new();
     let k = pts.len().div_ceil(GLOBAL_POINTS).max(1);
-    let res = map.res_mm().max(1) as i32;
+    // Bounded so that `block` is positive: no division by zero linked in.
+    let res = map.res_mm().clamp(1, 10_000) as i32;
     let block = 8 * res;
     // Per point: block offsets (x even, x odd, row even, row odd).
     let mut off = [(0i32, 0i32, 0i32, 0i32); GLOBAL_POINTS];
@@ -270,7 +271,11 @@ pub fn global<const EV: usize>(
         let mut n = 0;
         for (slot, &p) in off.iter_mut().zip(pts.iter().step_by(k)) {
             let (rx, ry) = place(&zero, sc, p);
-            let o = |par: i32, d: i32| (par * 4 * res + res / 2 + d).div_euclid(block);
+            let o = |par: i32, d: i32| {
+                (par * 4 * res + res / 2 + d)
+                    .checked_div_euclid(block)
+                    .unwrap_or(0)
+            };
             *slot = (o(0, rx), o(1, rx), o(0, -ry), o(1, -ry));
             n += 1;
         }

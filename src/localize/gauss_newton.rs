@@ -106,8 +106,9 @@ pub fn solve(n: &Normal, cell_mm: i32) -> Option<(i32, i32, i64)> {
     let ny = a * (q * f - r * e) - p * (b * f - e * c) + c * (b * r - q * c);
     let nt = a * (d * r - e * q) - b * (b * r - q * c) + p * (b * e - d * c);
     let cell = cell_mm as i128;
-    let dx = (nx * cell / det).clamp(-cell, cell) as i32;
-    let dy = (ny * cell / det).clamp(-cell, cell) as i32;
+    // max/min, not clamp: a negative cell size must not assert.
+    let dx = (nx * cell / det).max(-cell).min(cell) as i32;
+    let dy = (ny * cell / det).max(-cell).min(cell) as i32;
     let dt = (nt * 1_000_000 / det).clamp(-50_000, 50_000) as i64;
     Some((dx, dy, dt))
 }

@@ -1,13 +1,50 @@
-//! The lidar event: bytes into frames, hits into the ring (a
-//! `heapless::HistoryBuf` of the last [`super::RING`] points, each tagged
-//! with whether the map explains it), revolutions matched against the map
-//! ([`super::locate`]) and then into the evidence map.
+//! The lidar event: bytes into frames, hits into the ring ([`HitRing`]:
+//! the last [`super::RING`] points, each tagged with whether the map
+//! explains it), revolutions matched against the map ([`super::locate`])
+//! and then into the evidence map.
 
 use super::{MapMode, Mission};
 use crate::localize::ScanMatcher;
 use crate::nav::geometry::explained;
 use crate::robot::lidar::LidarProtocol;
 use crate::robot::lidar_map::{beams, EvidenceMap};
+
+/// A lidar hit: world mm, and whether the map explains it.
+pub(super) type Hit = (i32, i32, bool);
+
+/// The last `N` hits; a new one overwrites the oldest. Its slice is in
+/// storage order, as `heapless::HistoryBuf::as_slice` (which it replaces:
+/// that one indexes its storage with a bounds check the compiler cannot
+/// remove, a panicking branch in the firmware, issue 11 §6).
+pub(super) struct HitRing<const N: usize> {
+    buf: [Hit; N],
+    len: usize,
+    next: usize,
+}
+
+impl<const N: usize> HitRing<N> {
+    pub(super) const fn new() -> Self {
+        Self {
+            buf: [(0, 0, false); N],
+            len: 0,
+            next: 0,
+        }
+    }
+
+    /// Adds a hit, overwriting the oldest when full.
+    pub(super) fn write(&mut self, h: Hit) {
+        if let Some(slot) = self.buf.get_mut(self.next) {
+            *slot = h;
+        }
+        self.next = if self.next + 1 >= N { 0 } else { self.next + 1 };
+        self.len = (self.len + 1).min(N);
+    }
+
+    /// The hits held, in storage order.
+    pub(super) fn as_slice(&self) -> &[Hit] {
+        self.buf.get(..self.len).unwrap_or(&[])
+    }
+}
 
 impl Mission {
     /// The lidar event's body (see [`Mission::feed_lidar`]).

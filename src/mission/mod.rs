@@ -138,7 +138,6 @@ use crate::robot::odometry::{Odometry, Pose};
 use crate::robot::wheel_control::WheelControl;
 use events::Events;
 use handoff::Handoff;
-use heapless::HistoryBuf;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Phase {
@@ -208,7 +207,7 @@ struct LidarIn {
     asm: ScanAssembler<SCAN_FRAMES>,
     scan: Scan<SCAN_FRAMES>,
     /// Lidar hits, world mm, and whether the map explains each.
-    ring: HistoryBuf<(i32, i32, bool), RING>,
+    ring: lidar::HitRing<RING>,
     last_frame_us: u64,
 }
 
@@ -285,7 +284,7 @@ impl Mission {
                 parser: Ld06::new(),
                 asm: ScanAssembler::new(),
                 scan: Scan::new(),
-                ring: HistoryBuf::new(),
+                ring: lidar::HitRing::new(),
                 last_frame_us: 0,
             },
             queue: SubPaths::new(),

@@ -18,7 +18,9 @@ sized_impl!([] {
 
     /// Replays what control handed off since the last step, in order.
     pub(super) fn drain(&mut self) {
-        for note in self.m.handoff.take() {
+        // By reference: a heapless::Vec's by-value iterator slices its
+        // storage on drop (a panicking branch in the firmware).
+        for &note in self.m.handoff.take().iter() {
             match note {
                 Note::Swept((gx, gy)) => {
                     let _ = self.p.coarse.set(Layer::Known, gx, gy, true);

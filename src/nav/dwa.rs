@@ -197,7 +197,8 @@ pub fn evaluate(
         p.clearance_cap_mm as i64
     } else {
         (crate::math::cost::isqrt_u64(min_d2.max(0) as u64) as i64 / 1000 - p.radius_mm as i64)
-            .clamp(0, p.clearance_cap_mm as i64)
+            .max(0)
+            .min(p.clearance_cap_mm as i64)
     };
     // Va (see above).
     let ok = match hit_at_um {

@@ -126,7 +126,8 @@ pub fn follow(p: &FollowParams, seg: &SubPath, pose: &Pose) -> FollowCmd {
     let err_urad = wrap_urad(target - pose.theta_mrad as i64 * 1000);
     let err_mrad = (err_urad / 1000) as i32;
     let w = (err_mrad as i64 * p.k_heading_x1000 as i64 / 1000)
-        .clamp(-(p.max_w_mrad_s as i64), p.max_w_mrad_s as i64) as i32;
+        .max(-(p.max_w_mrad_s as i64))
+        .min(p.max_w_mrad_s as i64) as i32;
     if err_mrad.abs() > p.turn_in_place_mrad {
         return FollowCmd::Drive {
             v_mm_s: 0,
@@ -136,7 +137,8 @@ pub fn follow(p: &FollowParams, seg: &SubPath, pose: &Pose) -> FollowCmd {
     // v² = 2·a·d: slow down to stop at the end.
     let v_stop =
         crate::math::cost::isqrt_u64((2 * p.decel_mm_s2 as i64 * dist_end).max(0) as u64) as i32;
-    let v = v_stop.clamp(p.min_mm_s, p.cruise_mm_s);
+    // max/min, not clamp: no assert on the parameters' order.
+    let v = v_stop.max(p.min_mm_s).min(p.cruise_mm_s);
     FollowCmd::Drive {
         v_mm_s: v,
         w_mrad_s: w,

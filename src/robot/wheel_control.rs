@@ -142,10 +142,11 @@ fn pi_step(pi: &mut Pi, g: &WheelGains, set: i32, meas: i32, ticked: bool, dt_us
     let pushing_down = unsat <= -max && err < 0;
     if !pushing_up && !pushing_down {
         pi.integ_pm_q8 += g.ki_q8 as i64 * err * dt_us as i64 / 1_000_000;
-        pi.integ_pm_q8 = pi.integ_pm_q8.clamp(-max, max);
+        pi.integ_pm_q8 = pi.integ_pm_q8.max(-max).min(max);
     }
-    let duty =
-        ((ff + p + pi.integ_pm_q8) >> 8).clamp(-(g.max_duty_pm as i64), g.max_duty_pm as i64);
+    let duty = ((ff + p + pi.integ_pm_q8) >> 8)
+        .max(-(g.max_duty_pm as i64))
+        .min(g.max_duty_pm as i64);
     if duty.abs() >= g.stall_duty_pm as i64 && !ticked {
         pi.no_tick_us = pi.no_tick_us.saturating_add(dt_us);
     } else {

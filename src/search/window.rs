@@ -200,7 +200,7 @@ impl<const N: usize, const NW: usize> WindowSearch<N, NW> {
         self.goal_count = 0;
         let (bw, bh) = (big.width(), big.height());
         let mut b = 1u32;
-        while (bw.div_ceil(b) as usize) * (bh.div_ceil(b) as usize) > N {
+        while (bw.div_ceil(b) as usize) * (bh.div_ceil(b) as usize) > N && b < u16::MAX as u32 {
             b += 1;
         }
         let (w, h) = (bw.div_ceil(b), bh.div_ceil(b));
@@ -223,7 +223,7 @@ impl<const N: usize, const NW: usize> WindowSearch<N, NW> {
         self.whole = false;
         self.block = b as u16;
         self.last = (bw.saturating_sub(1) as u16, bh.saturating_sub(1) as u16);
-        let bs = b as u16;
+        let bs = (b as u16).max(1);
         let (s, g) = (
             Cell::new(start.x / bs, start.y / bs),
             Cell::new(goal.x / bs, goal.y / bs),
