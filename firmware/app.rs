@@ -32,12 +32,11 @@ use super::board::{
     battery::Battery, clock, encoders, lidar_dma::LidarDma, motors::Motors, ticker, watchdog,
     wiring,
 };
+use super::status::{self, STATUS_US};
 use core::sync::atomic::{AtomicU32, Ordering};
 
 /// The planner has not finished a turn for this long: control brakes.
 pub const PLAN_STALL_US: u64 = 1_000_000;
-/// Status lines every 5 s.
-pub const STATUS_US: u64 = 5_000_000;
 /// The map: 240 × 240 cells of 50 mm (12 × 12 m).
 const MAP_RES_MM: u32 = 50;
 
@@ -62,7 +61,6 @@ mod app {
         FW_HOME_SIDE,
     };
     use robovac::coverage::PlannerKind;
-    use robovac::grid::Layer;
     use robovac::mission::{Mission, MotorCmd};
     use robovac::robot::hal::{ByteSource, MotorDriver, QuadratureEncoder};
     use robovac::robot::odometry::Pose;
@@ -102,6 +100,7 @@ mod app {
         super::super::stack::paint();
         let mut dp = cx.device;
         let mut core = cx.core;
+        super::super::stack::guard(&mut core.MPU);
         let (sysclk, err) = clock::setup(&dp.RCC, &dp.FLASH);
         defmt::info!(
             "robovac {}: sysclk {} Hz",
@@ -250,15 +249,13 @@ mod app {
             }
             PLAN_BEAT_MS.store((now / 1000) as u32, Ordering::Relaxed);
             while let Some(e) = cx.shared.mission.lock(|m| m.pop_event()) {
-                log_event(&e);
+                status::event(&e);
             }
             if now >= next_status {
                 next_status = now + STATUS_US;
-                status(
-                    &mut cx.shared.mission,
-                    &mut cx.shared.parts,
-                    cx.local.battery,
-                );
+                (&mut cx.shared.mission, &mut cx.shared.parts)
+                    .lock(|m, p| status::status(now, m, p.coarse));
+                health(&mut cx.shared.mission, cx.local.battery);
             }
             if !planned {
                 cortex_m::asm::wfi();
@@ -286,27 +283,10 @@ mod app {
         note_cycles(1, DWT::cycle_count().wrapping_sub(t0));
     }
 
-    /// One status line.
-    fn status(
-        mission: &mut impl Mutex<T = &'static mut Mission>,
-        parts: &mut impl Mutex<T = FwParts<'static>>,
-        battery: &mut Battery,
-    ) {
-        let (pose, counters, parser) = mission.lock(|m| (m.pose(), m.counters(), m.parser_stats()));
-        let (covered, free) =
-            parts.lock(|p| (p.coarse.count(Layer::Covered), p.coarse.free_cells()));
-        let pct_x10 = (covered * 1000).checked_div(free).unwrap_or(0);
-        defmt::info!(
-            "pose ({}, {}) mm {} mrad; covered {} of {} planning cells ({}.{} %); battery {} mV",
-            pose.x_mm,
-            pose.y_mm,
-            pose.theta_mrad,
-            covered,
-            free,
-            pct_x10 / 10,
-            pct_x10 % 10,
-            battery.read_mv().unwrap_or(0)
-        );
+    /// The robot's health: battery, worst task costs, stack, lidar.
+    fn health(mission: &mut impl Mutex<T = &'static mut Mission>, battery: &mut Battery) {
+        let (counters, parser) = mission.lock(|m| (m.counters(), m.parser_stats()));
+        defmt::info!("battery {} mV", battery.read_mv().unwrap_or(0));
         defmt::info!(
             "worst cycles: control {}, lidar event {}, plan step {} (budget {} per 10 ms); stack {} of {} bytes; scans {}, plan steps {}",
             WORST[0].load(Ordering::Relaxed),
@@ -332,13 +312,5 @@ mod app {
             "serial log: {} bytes dropped (ring full)",
             super::super::board::serial_log::dropped()
         );
-    }
-
-    /// One event as a log line.
-    fn log_event(e: &robovac::mission::Event) {
-        #[cfg(feature = "defmt")]
-        defmt::info!("event: {}", e);
-        #[cfg(not(feature = "defmt"))]
-        defmt::info!("event: {}", defmt::Debug2Format(e));
     }
 }

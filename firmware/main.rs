@@ -21,6 +21,8 @@ mod pil;
 mod rtt;
 #[cfg(target_os = "none")]
 mod stack;
+#[cfg(target_os = "none")]
+mod status;
 
 /// The image with the sim-link board: the mission in the emulator, wired
 /// to host-sim (`host-sim mission --pil`).
@@ -79,6 +81,7 @@ mod pil_entry {
                 cortex_m::asm::wfi();
             },
         };
+        stack::guard(&mut cp.MPU);
         let mut link = board::simlink::SimLink::new(&mut cp.SYST);
         let meter = board::simlink::Meter::calibrate();
         defmt::info!(

@@ -12,12 +12,13 @@
 
 use super::board::simlink::{Meter, SimLink};
 use super::stack;
+use super::status::{self, STATUS_US};
 use robovac::capacity::{
-    FwEvidence, FwFineGrid, FwMatcher, FwPlanGrid, FwPlanner, FwWindow, FW_FINE_CELLS,
+    FwEvidence, FwFineGrid, FwMatcher, FwParts, FwPlanGrid, FwPlanner, FwWindow, FW_FINE_CELLS,
     FW_FINE_PATH, FW_MISSION_BYTES,
 };
 use robovac::link::msg::{unpack_cell, Down, Ready, Report, StepMsg, TaskCost, Tick, Up};
-use robovac::mission::{Mission, MissionParts, Parts};
+use robovac::mission::{Mission, MissionParts};
 use robovac::Cell;
 
 /// The mission's buffers (statics of the entry point).
@@ -64,7 +65,7 @@ pub fn run(b: Buffers, link: &mut SimLink, meter: &Meter) -> ! {
         }
         b.mission.configure(h.cfg);
         b.planner.set_kind(h.cfg.kind);
-        let mut parts = Parts {
+        let mut parts = FwParts {
             planner: &mut *b.planner,
             search: &mut *b.search,
             coarse: &mut *b.coarse,
@@ -99,15 +100,17 @@ fn load_map(map: &mut FwEvidence, link: &mut SimLink) -> bool {
     }
 }
 
-/// Control periods until the host ends the mission.
-fn periods<P: MissionParts>(
+/// Control periods until the host ends the mission. Events go to the
+/// host and to the log, with a status line every few seconds.
+fn periods(
     m: &mut Mission,
-    parts: &mut P,
+    parts: &mut FwParts<'_>,
     link: &mut SimLink,
     meter: &Meter,
 ) -> TaskCost {
     let mut worst = TaskCost::default();
     let mut bytes = [0u8; 1024];
+    let mut next_status = STATUS_US;
     loop {
         let t = match link.recv() {
             Down::Tick(t) => t,
@@ -117,7 +120,12 @@ fn periods<P: MissionParts>(
         let step = period(m, parts, link, meter, &t, &mut bytes, &mut worst);
         link.send(&Up::Step(step));
         while let Some(e) = m.pop_event() {
+            status::event(&e);
             link.send(&Up::Event(e));
+        }
+        if t.t_us >= next_status {
+            next_status = t.t_us + STATUS_US;
+            status::status(t.t_us, m, parts.coarse);
         }
     }
 }

@@ -11,6 +11,7 @@ Usage: pil_compare.py HOST_SIM ELF [host-sim mission options...]
    --target thumbv7em-none-eabihf --bin robovac --features pil)
 """
 import json
+import os
 import subprocess
 import sys
 import tempfile
@@ -28,10 +29,12 @@ def main():
         print(__doc__.strip().splitlines()[-4], file=sys.stderr)
         return 2
     host_sim, elf, args = sys.argv[1], sys.argv[2], sys.argv[3:]
+    # PIL_LOG=FILE keeps the firmware's raw defmt log (defmt-print -e ELF < FILE).
+    log = ["--pil-log", os.environ["PIL_LOG"]] if os.environ.get("PIL_LOG") else []
     out = {}
     with tempfile.TemporaryDirectory() as d:
         for name, extra in (("host", ["--capacity", "fw", "--firmware-order"]),
-                            ("firmware", ["--pil", "--pil-elf", elf])):
+                            ("firmware", ["--pil", "--pil-elf", elf] + log)):
             path = f"{d}/{name}.json"
             wall = run([host_sim, "mission", *args, *extra, "--json", path])
             out[name] = json.load(open(path))
@@ -44,7 +47,11 @@ def main():
             ("final state", lambda r: r["final_state"]),
             ("distance m", lambda r: f"{r['distance_m']:.2f}"),
             ("mission time s", lambda r: f"{r['sim_time_s']:.1f}"),
-            ("wall time s", lambda r: f"{r['wall_s']:.1f}")]
+            ("wall time s", lambda r: f"{r['wall_s']:.1f}"),
+            ("lidar frames", lambda r: r["lidar_parser"]["frames"]),
+            ("lidar bad crc", lambda r: r["lidar_parser"]["crc_failures"]),
+            ("bytes skipped", lambda r: r["lidar_parser"]["bytes_skipped"]),
+            ("silence stop ms", lambda r: r.get("silence_stop_ms", "-"))]
     print(f"{'':16}{'host':>14}{'firmware':>14}")
     for label, get in rows:
         print(f"{label:16}{str(get(h)):>14}{str(get(f)):>14}")
@@ -54,6 +61,11 @@ def main():
         if key in fw:
             print(f"{key:22}{fw[key]:>12} instructions"
                   f" ({100 * fw[key] / budget:.1f} % of a 10 ms period at 84 MHz)")
+    inj = f.get("injected", {})
+    if any(inj.values()):
+        print("injected: " + ", ".join(f"{k} {v}" for k, v in inj.items()))
+        print(f"firmware link: {fw.get('link_frames')} frames, {fw.get('link_dropped')} dropped;"
+              f" UART errors {fw.get('rx_errors')}, bytes lost to full queues {fw.get('rx_dropped')}")
     if "stack_used_bytes" in fw:
         print(f"stack high-water       {fw['stack_used_bytes']:>12} of {fw['stack_size_bytes']} bytes")
     bad = []
@@ -65,6 +77,11 @@ def main():
         bad.append("the host's mission ended at the dock, the firmware's did not")
     if not fw:
         bad.append("no report from the firmware")
+    if "--lidar-gap" in args and not (f.get("silence_stop_ms") is not None
+                                      and f["silence_stop_ms"] <= 200):
+        bad.append("the firmware's motors did not stop within 200 ms of the lidar's silence")
+    if inj.get("link_garbage_bytes") and not fw.get("link_dropped"):
+        bad.append("garbage on the link was not counted")
     for b in bad:
         print("FAIL:", b)
     return 1 if bad else 0

@@ -127,3 +127,27 @@ impl MotorDriver for Motors {
         t.ccr(1).write(|w| unsafe { w.bits(0) });
     }
 }
+
+/// Stops both motors from anywhere (the fault handler): PWM off and the
+/// driver in standby, by register.
+pub fn emergency_stop() {
+    let t = wiring::pwm_timer();
+    t.ccr(0).write(|w| unsafe { w.bits(0) });
+    t.ccr(1).write(|w| unsafe { w.bits(0) });
+    wiring::driver_standby_now();
+}
+
+/// A fault (a stack overflow into the guard, a bad access): the motors
+/// stop at once; the watchdog, no longer fed, resets the chip.
+#[cortex_m_rt::exception]
+unsafe fn HardFault(ef: &cortex_m_rt::ExceptionFrame) -> ! {
+    emergency_stop();
+    defmt::error!(
+        "hard fault at pc {=u32:#x}, lr {=u32:#x}: motors stopped",
+        ef.pc(),
+        ef.lr()
+    );
+    loop {
+        cortex_m::asm::wfi();
+    }
+}

@@ -50,6 +50,13 @@ pub type DirPins = (
     gpiob::PB5<Output<PushPull>>,
     gpiob::PB4<Output<PushPull>>,
 );
+/// Puts the driver in standby (STBY low: both bridges open) by register,
+/// without the pin's owner: for the fault handler, which cannot borrow it.
+pub fn driver_standby_now() {
+    // SAFETY: one atomic write to BSRR (bit 16 + 4 resets PB4).
+    unsafe { (*pac::GPIOB::ptr()).bsrr().write(|w| w.bits(1 << (16 + 4))) };
+}
+
 /// The left encoder's timer and pins.
 pub type LeftEncoderTim = pac::TIM3;
 /// Its pins (A, B).

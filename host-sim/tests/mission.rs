@@ -23,6 +23,7 @@ fn opts(map: &str, mode: MapMode, people: usize, noise: Noise, seed: u64) -> Mis
         start: None,
         kind: PlannerKind::BOha,
         lidar_gap_s: None,
+        faults: Default::default(),
         start_heading: None,
         kidnap_s: None,
         localize: true,
@@ -184,6 +185,45 @@ fn a_silent_lidar_stops_the_motors_and_the_mission_resumes() {
         (a.0 - b.0).hypot(a.1 - b.1)
     );
     assert!(rep.finished && rep.returned_to_start && rep.coverage >= 0.97);
+}
+
+/// Bad input on the wire at the firmware's capacity and call order (the
+/// processor-in-the-loop run compares against this, issue 11 §4):
+/// garbage bursts and overrun losses in the lidar stream are counted by
+/// the parser and change nothing the robot does wrong; a silence stops the
+/// true robot within 200 ms.
+#[test]
+fn garbage_overruns_and_silence_on_the_lidar_wire() {
+    let mut o = opts("studio", MapMode::Known, 0, Noise::None, 1);
+    o.capacity = Capacity::Fw;
+    o.firmware_order = true;
+    o.max_time_s = 70.0;
+    o.faults.lidar_garbage_s = Some((20.0, 30.0));
+    o.faults.lidar_overrun_s = Some((30.0, 40.0));
+    o.lidar_gap_s = Some((60.0, 63.0));
+    let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
+    check_truth(&o, &rep, &t);
+    assert_eq!(rep.injected.lidar_garbage_bytes, 1000 * 64);
+    assert!(rep.injected.lidar_lost_bytes > 4000, "{:?}", rep.injected);
+    let p = rep.lidar_parser;
+    assert!(p.crc_failures > 100 && p.bytes_skipped > 10_000, "{p:?}");
+    let stop = rep.silence_stop_ms.expect("stopped during the silence");
+    assert!(stop <= 200, "stopped {stop} ms after the lidar fell silent");
+    assert!(rep.counters.lidar_silences >= 1);
+    assert_eq!(rep.final_state, "Cover", "the mission resumed");
+}
+
+#[test]
+fn the_stop_after_a_silence_is_read_off_the_truth() {
+    use host_sim::run::inject::stop_after_silence_ms;
+    // Moving 10 mm per sample until 1.25 s, then still; silence from 1 s.
+    let truth: Vec<(f64, f64)> = (0..300)
+        .map(|i| ((i.min(125) as f64) * 0.01, 0.0))
+        .collect();
+    assert_eq!(stop_after_silence_ms(&truth, (1.0, 2.5)), Some(250));
+    assert_eq!(stop_after_silence_ms(&truth, (1.3, 2.5)), Some(0));
+    let moving: Vec<(f64, f64)> = (0..300).map(|i| (i as f64 * 0.01, 0.0)).collect();
+    assert_eq!(stop_after_silence_ms(&moving, (1.0, 2.5)), None);
 }
 
 #[test]

@@ -86,49 +86,40 @@ sized_impl!([] {
 
     pub(super) fn dwa_step(&mut self, pose: &Pose, goal_world: (i32, i32)) {
         let m = &mut *self.m;
-        let mut all = [(0i32, 0i32); RING + MAP_POINTS];
-        let mut n = 0usize;
+        // The points stream into the nearest-k selection: no buffer of all
+        // of them (it was 4.6 KB of stack, which overflowed the
+        // firmware's in the studio at 261 s).
         // Unmapped points (maybe people) are moved closer by the guard's
         // extra margin, so DWA keeps the berth the guard will insist on.
         let extra = m.cfg.guard.moving_margin_mm as i64;
         let frame = RobotFrame::of(pose);
-        for &(x, y, mapped) in m.lidar.ring.as_slice() {
+        let ring = m.lidar.ring.as_slice();
+        let lidar = ring.iter().map(|&(x, y, mapped)| {
             let (rx, ry) = frame.to_robot((x, y));
-            let q = if mapped {
-                (rx, ry)
-            } else {
-                let d = crate::math::cost::isqrt_u64(
-                    (rx as i64 * rx as i64 + ry as i64 * ry as i64) as u64,
-                )
-                .max(1) as i64;
-                let k = (d - extra).max(0);
-                ((rx as i64 * k / d) as i32, (ry as i64 * k / d) as i32)
-            };
-            if let Some(s) = all.get_mut(n) {
-                *s = q;
-                n += 1;
+            if mapped {
+                return (rx, ry);
             }
-        }
-        // Nearby grid obstacles (known mode: the prior map's walls).
+            let d = crate::math::cost::isqrt_u64(
+                (rx as i64 * rx as i64 + ry as i64 * ry as i64) as u64,
+            )
+            .max(1) as i64;
+            let k = (d - extra).max(0);
+            ((rx as i64 * k / d) as i32, (ry as i64 * k / d) as i32)
+        });
+        // Nearby grid obstacles (known mode: the prior map's walls), as
+        // many as fill RING + MAP_POINTS with the ring's.
         let map = &*self.p.map;
         let (cx, cy) = map.cell_of(pose.x_mm, pose.y_mm);
         let k = (600 / map.res_mm().max(1)) as i32;
-        'grid: for y in cy - k..=cy + k {
-            for x in cx - k..=cx + k {
-                if map.state(x, y) == CellState::Occupied {
-                    let c = cspace::fine_centre_mm(map, x, y);
-                    match all.get_mut(n) {
-                        Some(s) if n < RING + MAP_POINTS => {
-                            *s = frame.to_robot(c);
-                            n += 1;
-                        }
-                        _ => break 'grid,
-                    }
-                }
-            }
-        }
+        let grid = (cy - k..=cy + k)
+            .flat_map(|y| (cx - k..=cx + k).map(move |x| (x, y)))
+            .filter(|&(x, y)| map.state(x, y) == CellState::Occupied)
+            .map(|(x, y)| frame.to_robot(cspace::fine_centre_mm(map, x, y)))
+            .take((RING + MAP_POINTS).saturating_sub(ring.len().min(RING)));
         let mut obs = [(0i32, 0i32); MAX_OBSTACLES];
-        let k = dwa::nearest_obstacles(all.get(..n).unwrap_or(&[]), &mut obs);
+        let k = crate::math::select::smallest_k_of(lidar.take(RING).chain(grid), &mut obs, |p| {
+            p.0 as i64 * p.0 as i64 + p.1 as i64 * p.1 as i64
+        });
         let goal = frame.to_robot(goal_world);
         m.dwa_cmd = match dwa::plan(
             &m.cfg.dwa,

@@ -28,6 +28,7 @@ fn cmd_demo() -> Result<(), String> {
         start: None,
         kind: robovac::coverage::PlannerKind::BOha,
         lidar_gap_s: None,
+        faults: Default::default(),
         start_heading: None,
         kidnap_s: None,
         localize: true,

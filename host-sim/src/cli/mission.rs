@@ -31,6 +31,18 @@ pub struct Args {
     /// Silence the lidar from A to B seconds (A,B) to exercise the fault.
     #[arg(long, value_parser = parse_point)]
     pub lidar_gap: Option<(f64, f64)>,
+    /// Add 64 random bytes to every control period's lidar bytes from A to
+    /// B seconds (A,B): bursts of garbage on the lidar's UART.
+    #[arg(long, value_parser = parse_point)]
+    pub lidar_garbage: Option<(f64, f64)>,
+    /// Lose one lidar byte in 37 from A to B seconds, as a UART overrun
+    /// does (QEMU's USART cannot overrun by itself).
+    #[arg(long, value_parser = parse_point)]
+    pub lidar_overrun: Option<(f64, f64)>,
+    /// With --pil: 32 random bytes and a delimiter on the sim link before
+    /// every tick from A to B seconds.
+    #[arg(long, value_parser = parse_point)]
+    pub link_garbage: Option<(f64, f64)>,
     /// Write the measurements as JSON.
     #[arg(long)]
     pub json: Option<PathBuf>,
@@ -85,6 +97,9 @@ pub fn run(a: Args) -> Result<(), String> {
         start,
         planner,
         lidar_gap,
+        lidar_garbage,
+        lidar_overrun,
+        link_garbage,
         json,
         svg,
         events,
@@ -122,6 +137,11 @@ pub fn run(a: Args) -> Result<(), String> {
         start,
         kind,
         lidar_gap_s: lidar_gap,
+        faults: host_sim::run::inject::Faults {
+            lidar_garbage_s: lidar_garbage,
+            lidar_overrun_s: lidar_overrun,
+            link_garbage_s: link_garbage,
+        },
         start_heading: None,
         kidnap_s: kidnap,
         localize: !no_localize,

@@ -5,6 +5,7 @@
 
 use robovac::localize::LocStats;
 use robovac::mission::{Counters, Event, Mission, MissionParts, MotorCmd, State};
+use robovac::robot::lidar::ParserStats;
 use robovac::robot::odometry::Pose;
 
 use super::mission_debug::{debug_collision, debug_grid, debug_tick};
@@ -17,6 +18,11 @@ pub trait Executive {
     /// One control period: the lidar bytes that arrived in it (possibly
     /// none), the encoders' raw counts; the motor command.
     fn period(&mut self, t_us: u64, lidar: &[u8], enc: (u16, u16)) -> Result<MotorCmd, String>;
+    /// Bytes of line noise on the link before the next tick (the link's
+    /// bad-input test; a native executive has no link: ignored).
+    fn link_noise(&mut self, _bytes: &[u8]) -> Result<(), String> {
+        Ok(())
+    }
     /// The next event, oldest first.
     fn pop_event(&mut self) -> Option<Event>;
     /// The mission is over.
@@ -31,6 +37,8 @@ pub trait Executive {
     fn counters(&self) -> Counters;
     /// Localisation's counters.
     fn loc_stats(&self) -> LocStats;
+    /// The lidar parser's counters (over the sim link, at the end).
+    fn parser_stats(&self) -> ParserStats;
     /// The mission loop has ended (the firmware sends its report).
     fn end(&mut self) -> Result<(), String> {
         Ok(())
@@ -93,6 +101,9 @@ impl Executive for Native<'_> {
     }
     fn loc_stats(&self) -> LocStats {
         self.mission.loc_stats()
+    }
+    fn parser_stats(&self) -> ParserStats {
+        self.mission.parser_stats()
     }
     fn debug_grid(&self, covered: bool) {
         debug_grid(self.parts, covered);

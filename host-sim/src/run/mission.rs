@@ -48,6 +48,9 @@ pub struct MissionOptions {
     pub kind: PlannerKind,
     /// Silence the lidar between these sim times (s), to exercise the fault.
     pub lidar_gap_s: Option<(f64, f64)>,
+    /// Bad input on the wire: garbage and overruns in the lidar stream,
+    /// garbage on the sim link ([`super::inject`]).
+    pub faults: super::inject::Faults,
     /// The dock's heading (the robot's at the start), rad; default: the
     /// map's dock angle, or east.
     pub start_heading: Option<f64>,
@@ -73,6 +76,14 @@ pub struct MissionOptions {
 pub struct MissionReport {
     /// The executive reached Done.
     pub finished: bool,
+    /// With a lidar silence (`lidar_gap_s`): how long after it began the
+    /// true robot stood still, ms (None: it never did).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub silence_stop_ms: Option<u64>,
+    /// Bad input injected ([`super::inject`]).
+    pub injected: super::inject::Injected,
+    /// What the executive's lidar parser saw.
+    pub lidar_parser: LidarParser,
     /// The true final position is within 0.15 m of the start.
     pub returned_to_start: bool,
     /// Share of the reachable floor swept (truth, 5 cm cells).
@@ -141,6 +152,19 @@ pub struct MissionReport {
     /// Processor-in-the-loop: what the firmware measured on itself.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub firmware: Option<super::pil::FirmwareFigures>,
+}
+
+/// The lidar parser's counters, as reported.
+#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
+pub struct LidarParser {
+    /// Frames accepted.
+    pub frames: u32,
+    /// Frames whose checksum failed.
+    pub crc_failures: u32,
+    /// Frames with a good checksum and implausible content.
+    pub rejected: u32,
+    /// Bytes skipped looking for a frame's start.
+    pub bytes_skipped: u32,
 }
 
 /// Tracks for the picture.
@@ -247,12 +271,13 @@ pub(crate) fn drive(
     let trace_on = std::env::var_os("ROBOVAC_DEBUG_TRACE").is_some();
     let mut seen_collisions = 0usize;
     let mut kidnap_us = opts.kidnap_s.map(|t| (t * 1e6) as u64);
+    let mut inject = super::inject::Injector::new(opts.faults, opts.seed);
     while sim.t_us < max_us && !mission.finished() {
         if kidnap_us.is_some_and(|t| sim.t_us >= t) {
             kidnap_us = None;
             trace.kidnap = sim.kidnap().map(|p| (sim.t_us as f64 * 1e-6, p));
         }
-        control_period(sim, mission, opts)?;
+        control_period(sim, mission, opts, &mut inject)?;
         while let Some(e) = mission.pop_event() {
             trace.events.push(e);
         }
@@ -274,6 +299,10 @@ pub(crate) fn drive(
     mission.debug_grid(true);
     finish_report(&mut rep, mission, sim, floor, pose, &cfg);
     trace.truth = std::mem::take(&mut sim.trajectory);
+    rep.injected = inject.done;
+    rep.silence_stop_ms = opts
+        .lidar_gap_s
+        .and_then(|g| super::inject::stop_after_silence_ms(&trace.truth, g));
     trace.people = sim.world.people.iter().map(|p| p.track.clone()).collect();
     trace.collisions = sim
         .collisions
@@ -303,6 +332,7 @@ fn control_period(
     sim: &mut Sim,
     mission: &mut dyn Executive,
     opts: &MissionOptions,
+    inject: &mut super::inject::Injector,
 ) -> Result<(), String> {
     let steps = sim.cfg.control_period_us / sim.cfg.physics_step_us;
     for _ in 0..steps {
@@ -320,6 +350,12 @@ fn control_period(
         if !silent {
             lidar.extend_from_slice(buf.get(..n).unwrap_or(&[]));
         }
+    }
+    let t = sim.t_us as f64 * 1e-6;
+    inject.lidar(t, &mut lidar);
+    let noise = inject.link(t);
+    if !noise.is_empty() {
+        mission.link_noise(&noise)?;
     }
     let enc = sim.read_encoders();
     match mission.period(sim.t_us, &lidar, enc)? {
@@ -421,6 +457,13 @@ fn finish_report(
     rep.pose_error_rms_mm = (rep.err_sq.0 / n).sqrt();
     rep.heading_error_rms_mrad = (rep.err_sq.1 / n).sqrt();
     rep.localization = mission.loc_stats();
+    let ps = mission.parser_stats();
+    rep.lidar_parser = LidarParser {
+        frames: ps.frames,
+        crc_failures: ps.crc_failures,
+        rejected: ps.rejected,
+        bytes_skipped: ps.bytes_skipped,
+    };
     rep.coverage = floor.coverage();
     rep.distance_m = sim.distance_m;
     let swept = floor.swept_area_m2().max(1e-9);

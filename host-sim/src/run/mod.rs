@@ -5,6 +5,7 @@ pub mod bench;
 pub mod dock;
 pub mod drive;
 pub mod executive;
+pub mod inject;
 pub mod mission;
 pub mod mission_debug;
 pub mod parts;

@@ -318,6 +318,12 @@ impl Executive for Pil {
         Ok(self.last.cmd)
     }
 
+    fn link_noise(&mut self, bytes: &[u8]) -> Result<(), String> {
+        self.link
+            .write_all(bytes)
+            .map_err(|e| format!("sim link: {e}"))
+    }
+
     fn pop_event(&mut self) -> Option<Event> {
         self.events.pop_front()
     }
@@ -344,6 +350,9 @@ impl Executive for Pil {
     }
     fn loc_stats(&self) -> LocStats {
         self.report.map(|r| r.loc).unwrap_or_default()
+    }
+    fn parser_stats(&self) -> robovac::robot::lidar::ParserStats {
+        self.report.map(|r| r.parser).unwrap_or_default()
     }
     fn end(&mut self) -> Result<(), String> {
         self.send(&Down::End)?;

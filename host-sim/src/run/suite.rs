@@ -136,6 +136,7 @@ pub fn run_suite(
                 start: None,
                 kind: PlannerKind::BOha,
                 lidar_gap_s: None,
+                faults: Default::default(),
                 start_heading: None,
                 kidnap_s: None,
                 localize: true,
