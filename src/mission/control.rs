@@ -14,7 +14,7 @@ use super::{Activity, Capacity, EventKind, Fault, Mission, MotorCmd, Phase};
 use crate::nav::cspace;
 use crate::nav::follow::{follow, FollowCmd};
 use crate::nav::geometry::RobotFrame;
-use crate::nav::guard::{free_distance_slack_mm, limit_speed, GuardParams};
+use crate::nav::guard::{limit_speed, FreeDistance, GuardParams};
 use crate::robot::odometry::Pose;
 
 /// What the sensing half measured, for the acting half.
@@ -251,6 +251,11 @@ impl Mission {
         let (mut n_close, mut sum_x) = (0i64, 0i64);
         let frame = RobotFrame::of(pose);
         for &(qx, qy, mapped) in self.lidar.ring.as_slice() {
+            // Farther than `close` along either axis: not touching (the
+            // test below would fail; skipped before the transform).
+            if !within_square(pose, (qx, qy), close) {
+                continue;
+            }
             let (x, y) = frame.to_robot((qx, qy));
             let c = if mapped { close - slack } else { close };
             if (x as i64).pow(2) + (y as i64).pow(2) < c * c {
@@ -280,19 +285,7 @@ impl Mission {
             theta_mrad: pose.theta_mrad + w / 4,
             ..*pose
         };
-        let free_along = |mapped: bool, radius: i32, slack: i32| {
-            [*pose, turned]
-                .iter()
-                .map(|p| {
-                    let frame = RobotFrame::of(p);
-                    let pts = self.points_where(mapped).map(|q| frame.to_robot(q));
-                    free_distance_slack_mm(pts, radius, slack, v > 0)
-                })
-                .min()
-                .unwrap_or(i32::MAX)
-        };
-        let free_static = free_along(true, g.radius_mm, g.mapped_slack_mm);
-        let free_moving = free_along(false, g.radius_mm + g.moving_margin_mm, 0);
+        let (free_static, free_moving) = self.free_distances(pose, &turned, v);
         let lim_static = limit_speed(&g, v, free_static);
         let moving = GuardParams {
             reserve_mm: g.reserve_mm + g.moving_margin_mm,
@@ -315,6 +308,31 @@ impl Mission {
         lim
     }
 
+    /// The free distances ahead (`v`'s direction) for mapped points and
+    /// for unmapped ones (wider corridor), each the nearer of the present
+    /// heading's and the turned one's: one pass over the ring, far points
+    /// skipped before their transform ([`guard_reach_mm`]).
+    fn free_distances(&self, pose: &Pose, turned: &Pose, v: i32) -> (i32, i32) {
+        let g = &self.cfg.guard;
+        let fwd = v > 0;
+        let reach = guard_reach_mm(g, v);
+        let frames = [RobotFrame::of(pose), RobotFrame::of(turned)];
+        let stat = FreeDistance::new(g.radius_mm, g.mapped_slack_mm, fwd);
+        let mov = FreeDistance::new(g.radius_mm + g.moving_margin_mm, 0, fwd);
+        let mut acc = [[stat; 2], [mov; 2]];
+        for &(qx, qy, mapped) in self.lidar.ring.as_slice() {
+            if !within_square(pose, (qx, qy), reach) {
+                continue;
+            }
+            let class = if mapped { &mut acc[0] } else { &mut acc[1] };
+            for (a, f) in class.iter_mut().zip(frames.iter()) {
+                a.push(f.to_robot((qx, qy)));
+            }
+        }
+        let best = |c: &[FreeDistance; 2]| c[0].result().min(c[1].result());
+        (best(&acc[0]), best(&acc[1]))
+    }
+
     /// A wheel stalled: back off. Something the lidar sees against the
     /// body (a person, a chair) is an obstruction to back away from; only
     /// a stall with nothing in sight (a rug's edge, a cable) counts toward
@@ -335,4 +353,32 @@ impl Mission {
         };
         self.cmd = (0, 0);
     }
+}
+
+/// `q` lies within `r_mm` of the robot along both axes (world mm): a
+/// cheap test that skips far points before their transform.
+fn within_square(pose: &Pose, q: (i32, i32), r_mm: i64) -> bool {
+    (q.0 as i64 - pose.x_mm as i64).abs() <= r_mm && (q.1 as i64 - pose.y_mm as i64).abs() <= r_mm
+}
+
+/// How far from the robot (world mm, along either axis) a lidar point can
+/// still cap the guard's speed at `v_mm_s`; farther points are skipped, and
+/// the speed allowed is exactly what it would be with them.
+///
+/// Why exact: a point caps the speed only if its free distance `d` is
+/// below `reserve + max(v², creep²) / 2a` (below that room the cap is
+/// under `v` or under the creep speed). In the corridor (`|y| < radius`),
+/// `d ≥ x − radius`, so such a point has `x < x_min = radius + need`, and
+/// lies within `√(x_min² + radius²)` of the robot. The widest radius and
+/// reserve (the moving class's) bound both classes, and both headings the
+/// guard checks share the robot's position. A point farther than that is
+/// never among the two nearest that decide.
+fn guard_reach_mm(g: &GuardParams, v_mm_s: i32) -> i64 {
+    let r = (g.radius_mm.max(0) + g.moving_margin_mm.max(0)) as i64;
+    let reserve = (g.reserve_mm.max(0) + g.moving_margin_mm.max(0)) as i64;
+    let a2 = 2 * (g.brake_mm_s2.max(1) as i64);
+    let vv = (v_mm_s as i64).pow(2).max((g.creep_mm_s as i64).pow(2));
+    let need = reserve + (vv + a2 - 1) / a2 + 2;
+    let x_min = r + need;
+    crate::math::cost::isqrt_u64((x_min * x_min + r * r) as u64) as i64 + 2
 }

@@ -65,24 +65,62 @@ pub fn free_distance_slack_mm(
     slack_mm: i32,
     forward: bool,
 ) -> i32 {
-    let r = radius_mm as i64;
-    let edge = (radius_mm - slack_mm.max(0)) as i64;
-    let (mut first, mut second) = (i32::MAX as i64, i32::MAX as i64);
-    for (x, y) in points {
-        let (x, y) = (if forward { x as i64 } else { -(x as i64) }, y as i64);
-        if x <= 0 || y.abs() >= edge {
-            continue;
-        }
-        let half_chord = isqrt_u64((r * r - y * y) as u64) as i64;
-        let d = (x - half_chord).max(0);
-        if d < first {
-            second = first;
-            first = d;
-        } else if d < second {
-            second = d;
+    let mut f = FreeDistance::new(radius_mm, slack_mm, forward);
+    for p in points {
+        f.push(p);
+    }
+    f.result()
+}
+
+/// [`free_distance_slack_mm`] fed one point at a time, so one pass over
+/// the lidar ring can serve several corridors (the control tick checks
+/// two headings for two classes of points).
+#[derive(Clone, Copy, Debug)]
+pub struct FreeDistance {
+    r: i64,
+    edge: i64,
+    forward: bool,
+    first: i64,
+    second: i64,
+}
+
+impl FreeDistance {
+    /// An empty corridor of half-width `radius_mm`, counting points more
+    /// than `slack_mm` inside its edge, ahead (`forward`) or behind.
+    pub fn new(radius_mm: i32, slack_mm: i32, forward: bool) -> Self {
+        Self {
+            r: radius_mm as i64,
+            edge: (radius_mm - slack_mm.max(0)) as i64,
+            forward,
+            first: i32::MAX as i64,
+            second: i32::MAX as i64,
         }
     }
-    second as i32
+
+    /// One point (robot frame, mm).
+    pub fn push(&mut self, (x, y): (i32, i32)) {
+        let (x, y) = (if self.forward { x as i64 } else { -(x as i64) }, y as i64);
+        // x − r bounds d from below (the half chord is at most r): a
+        // point that far cannot be among the two nearest, and its square
+        // root is skipped (most of a room's points).
+        if x <= 0 || y.abs() >= self.edge || x - self.r >= self.second {
+            return;
+        }
+        let half_chord = isqrt_u64((self.r * self.r - y * y) as u64) as i64;
+        let d = (x - half_chord).max(0);
+        if d < self.first {
+            self.second = self.first;
+            self.first = d;
+        } else if d < self.second {
+            self.second = d;
+        }
+    }
+
+    /// The free distance: to the second nearest point, `i32::MAX` when
+    /// fewer than two are in the way.
+    pub fn result(&self) -> i32 {
+        self.second as i32
+    }
 }
 
 /// The linear speed allowed (same sign as `v_mm_s`, never larger in
