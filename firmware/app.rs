@@ -13,10 +13,10 @@
 //! planning step holds the executive while it runs (the executive is one
 //! structure: its control and planning halves are not yet separate
 //! resources), so a control period falls due late by up to one planning
-//! step: 23.1 M instructions at worst in the emulated studio (275 ms at
-//! 84 MHz, a one-off: the first relocalisation), typical steps far less.
-//! The watchdog ([`board::watchdog`]) bounds it: a step that holds the
-//! executive past 500 ms resets the chip.
+//! step: 31.2 M instructions at worst in the whole emulated studio mission
+//! (372 ms at 84 MHz), typical steps far less. The watchdog
+//! ([`board::watchdog`]) bounds it: a step that holds the executive past
+//! 1 s resets the chip.
 //!
 //! **Watchdog.** Only `control` feeds it. When the planner has not
 //! finished a turn for [`PLAN_STALL_US`], control brakes the motors and
