@@ -114,6 +114,10 @@ mod app {
         core.DWT.enable_cycle_counter();
         // Keep the probe's RTT link up while idle sleeps.
         dp.DBGMCU.cr().modify(|_, w| w.dbg_sleep().set_bit());
+        // And stop the watchdog while a debugger halts the core.
+        dp.DBGMCU
+            .apb1_fz()
+            .modify(|_, w| w.dbg_iwdg_stop().set_bit());
         dp.RCC.apb1enr().modify(|_, w| {
             w.tim4en().set_bit();
             w.tim5en().set_bit();
