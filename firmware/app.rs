@@ -16,7 +16,7 @@
 //! step: 31.2 M instructions at worst in the whole emulated studio mission
 //! (372 ms at 84 MHz), typical steps far less. The watchdog
 //! ([`board::watchdog`]) bounds it: a step that holds the executive past
-//! 1 s resets the chip.
+//! 4 s resets the chip (a whole-map relocalisation, braked, may take 3 s).
 //!
 //! **Watchdog.** Only `control` feeds it. When the planner has not
 //! finished a turn for [`PLAN_STALL_US`], control brakes the motors and
