@@ -106,12 +106,10 @@ impl<const LCAP: usize, const NW: usize> BacktrackList<LCAP, NW> {
         }
         self.in_list.put(i, false);
         if let Some(k) = self.items.iter().position(|&p| p == c) {
-            // swap_remove without its assert (a panicking branch in the
-            // firmware): the last item takes slot k.
-            if let Some(last) = self.items.pop() {
-                if let Some(slot) = self.items.get_mut(k) {
-                    *slot = last;
-                }
+            // The guard proves swap_remove's assert away (the firmware
+            // links no panicking branch).
+            if k < self.items.len() {
+                self.items.swap_remove(k);
             }
         }
     }
@@ -131,12 +129,10 @@ impl<const LCAP: usize, const NW: usize> BacktrackList<LCAP, NW> {
             if let Some(i) = grid.index(c.x as i32, c.y as i32) {
                 self.in_list.put(i, false);
             }
-            // swap_remove without its assert (a panicking branch in the
-            // firmware): the last item takes slot k.
-            if let Some(last) = self.items.pop() {
-                if let Some(slot) = self.items.get_mut(k) {
-                    *slot = last;
-                }
+            // The guard proves swap_remove's assert away (the firmware
+            // links no panicking branch).
+            if k < self.items.len() {
+                self.items.swap_remove(k);
             }
         }
     }

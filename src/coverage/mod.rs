@@ -497,15 +497,12 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
         } else {
             t
         };
-        if m < t {
-            // Forward copy (m < t); `get` keeps the firmware free of
-            // panicking branches (copy_within checks its ranges).
-            for i in 0..n.saturating_sub(t) {
-                if let Some(&c) = self.path.get(t + i) {
-                    if let Some(d) = self.path.get_mut(m + i) {
-                        *d = c;
-                    }
-                }
+        if let Some(cells) = self.path.get_mut(..n) {
+            // The cover moves path[t..n] follow the pruned transit. The
+            // guard proves copy_within's range checks away (the firmware
+            // links no panicking branch).
+            if m < t && t <= cells.len() {
+                cells.copy_within(t.., m);
             }
         }
         // path[1..m] are transit waypoints, path[m..] cover moves.
