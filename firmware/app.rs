@@ -8,19 +8,31 @@
 //! | `log_tx` | USART2 transmit (feature `log-serial`) | 1 | the defmt bytes out |
 //! | `idle` | background | 0 | [`Mission::plan`] when due, events and status logged |
 //!
-//! **Sharing.** The executive and its buffers are RTIC resources. The
-//! control task locks only the executive and touches no big buffer, but a
-//! planning step holds the executive while it runs (the executive is one
-//! structure: its control and planning halves are not yet separate
-//! resources), so a control period falls due late by up to one planning
-//! step: 31.2 M instructions at worst in the whole emulated studio mission
-//! (372 ms at 84 MHz), typical steps far less. The watchdog
-//! ([`board::watchdog`]) bounds it: a step that holds the executive past
-//! 4 s resets the chip (a whole-map relocalisation, braked, may take 3 s).
+//! **Sharing without blocking.** The executive and its buffers sit in one
+//! try-lock ([`EXEC`], a `spin` mutex only ever tried, never waited on),
+//! not in an RTIC resource: RTIC's locks raise the holder to the
+//! resource's ceiling, so a planning step (up to 31.2 M instructions,
+//! 372 ms at 84 MHz, in the whole emulated studio mission) would hold the
+//! control interrupt off for its whole length, and the robot would drive
+//! on unguarded. Instead, whoever finds the executive held does without:
+//!
+//! - control runs the [`Reflex`]: it keeps the last command for
+//!   [`Reflex::HOLD_US`] (25 ms), then brakes, and feeds the watchdog
+//!   unless the executive has been held for [`Reflex::HUNG_US`] (6 s);
+//! - a lidar event leaves its bytes in the DMA ring;
+//! - both are owed: whoever releases the executive pends the owed control
+//!   period and lidar event, so they run the moment it comes free.
+//!
+//! A lidar event (about 0.1 M instructions; 22.8 M for the relocalisation
+//! at the self-test, braked) delays a control period by itself at most. The
+//! cost: on the robot, a planning step longer than 25 ms brakes the robot
+//! for its remainder (the loop's figures count them: `pil_compare.py`).
 //!
 //! **Watchdog.** Only `control` feeds it. When the planner has not
 //! finished a turn for [`PLAN_STALL_US`], control brakes the motors and
 //! goes on feeding: control alive and the motors safe, as the issue asks.
+//! An executive held past [`Reflex::HUNG_US`] stops the feeding: the chip
+//! resets within the watchdog's 0.5 s more.
 //!
 //! **The mission.** Unknown mode, started at boot at the centre of a
 //! 12 × 12 m map (so a home may reach 6 m from the dock each way; the map
@@ -33,7 +45,9 @@ use super::board::{
     wiring,
 };
 use super::status::{self, STATUS_US};
-use core::sync::atomic::{AtomicU32, Ordering};
+use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+use robovac::capacity::FwParts;
+use robovac::mission::{Mission, Reflex};
 
 /// The planner has not finished a turn for this long: control brakes.
 pub const PLAN_STALL_US: u64 = 1_000_000;
@@ -44,6 +58,36 @@ const MAP_RES_MM: u32 = 50;
 static PLAN_BEAT_MS: AtomicU32 = AtomicU32::new(0);
 /// Worst cycles per task (control, lidar event, plan step).
 static WORST: [AtomicU32; 3] = [AtomicU32::new(0), AtomicU32::new(0), AtomicU32::new(0)];
+
+/// The executive at work on its buffers.
+pub struct Exec {
+    mission: &'static mut Mission,
+    parts: FwParts<'static>,
+}
+
+/// The executive, shared by control, the lidar events and idle: only ever
+/// tried, never waited on (see the module docs).
+static EXEC: spin::Mutex<Option<Exec>> = spin::Mutex::new(None);
+/// A control period found the executive held: run it when it comes free.
+static CONTROL_OWED: AtomicBool = AtomicBool::new(false);
+/// A lidar event found the executive held: its bytes wait in the DMA ring.
+static LIDAR_OWED: AtomicBool = AtomicBool::new(false);
+
+/// Runs `f` on the executive, unless another task holds it (`None`);
+/// then runs the control period and lidar event owed meanwhile.
+fn with_exec<R>(f: impl FnOnce(&mut Exec) -> R) -> Option<R> {
+    let r = {
+        let mut guard = EXEC.try_lock()?;
+        guard.as_mut().map(f)
+    };
+    if CONTROL_OWED.load(Ordering::Relaxed) {
+        rtic::pend(stm32f4xx_hal::pac::Interrupt::TIM5);
+    }
+    if LIDAR_OWED.swap(false, Ordering::Relaxed) {
+        rtic::pend(stm32f4xx_hal::pac::Interrupt::DMA2_STREAM2);
+    }
+    r
+}
 
 /// Keeps the worst of a task's cycle counts.
 fn note_cycles(task: usize, cycles: u32) {
@@ -57,21 +101,18 @@ mod app {
     use super::*;
     use cortex_m::peripheral::DWT;
     use robovac::capacity::{
-        FwEvidence, FwFineGrid, FwMatcher, FwParts, FwPlanGrid, FwPlanner, FwWindow, FW_FINE_PATH,
+        FwEvidence, FwFineGrid, FwMatcher, FwPlanGrid, FwPlanner, FwWindow, FW_FINE_PATH,
         FW_HOME_SIDE,
     };
     use robovac::coverage::PlannerKind;
-    use robovac::mission::{Mission, MotorCmd};
+    use robovac::mission::MotorCmd;
     use robovac::robot::hal::{ByteSource, MotorDriver, QuadratureEncoder};
     use robovac::robot::odometry::Pose;
     use robovac::Cell;
-    use rtic::Mutex;
     use stm32f4xx_hal::gpio::GpioExt;
 
     #[shared]
     struct Shared {
-        mission: &'static mut Mission,
-        parts: FwParts<'static>,
         #[lock_free]
         lidar: LidarDma,
     }
@@ -176,14 +217,16 @@ mod app {
             half_mm,
             now
         );
+        if let Some(mut exec) = EXEC.try_lock() {
+            *exec = Some(Exec {
+                mission: l.mission,
+                parts,
+            });
+        }
         let ticker = ticker::Ticker::start();
         let watchdog = watchdog::Watchdog::start(dp.IWDG);
         (
-            Shared {
-                mission: l.mission,
-                parts,
-                lidar,
-            },
+            Shared { lidar },
             Local {
                 ticker,
                 motors,
@@ -195,38 +238,58 @@ mod app {
         )
     }
 
-    /// The control period: encoders in, motors out, watchdog fed.
-    #[task(binds = TIM5, priority = 3, shared = [mission], local = [ticker, motors, left, right, watchdog])]
-    fn control(mut cx: control::Context) {
-        if !cx.local.ticker.on_interrupt() {
+    /// The control period: encoders in, motors out, watchdog fed; the
+    /// reflex when the executive is held (also run when pended as owed).
+    #[task(binds = TIM5, priority = 3, local = [ticker, motors, left, right, watchdog, reflex: Reflex = Reflex::new()])]
+    fn control(cx: control::Context) {
+        let due = cx.local.ticker.on_interrupt();
+        let owed = CONTROL_OWED.swap(false, Ordering::Relaxed);
+        if !due && !owed {
             return;
         }
         let t0 = DWT::cycle_count();
         let now = ticker::now_us();
         let enc = (cx.local.left.count(), cx.local.right.count());
-        let cmd = cx.shared.mission.lock(|m| m.control(now, enc));
+        // Inside the try-lock: control preempted nothing that holds it.
+        let ran = EXEC
+            .try_lock()
+            .and_then(|mut g| g.as_mut().map(|e| e.mission.control(now, enc)));
+        let (cmd, feed) = match ran {
+            Some(cmd) => {
+                cx.local.reflex.ran(now, cmd);
+                (cmd, true)
+            }
+            None => {
+                CONTROL_OWED.store(true, Ordering::Relaxed);
+                let out = cx.local.reflex.busy(now);
+                (out.cmd, out.feed)
+            }
+        };
         let beat_ms = u64::from(PLAN_BEAT_MS.load(Ordering::Relaxed));
         let planner_alive = (now / 1000).saturating_sub(beat_ms) * 1000 < PLAN_STALL_US;
         match cmd {
             MotorCmd::Duty(l, r) if planner_alive => cx.local.motors.set_duty(l, r),
             _ => cx.local.motors.brake(),
         }
-        cx.local.watchdog.feed();
+        if feed {
+            cx.local.watchdog.feed();
+        }
         note_cycles(0, DWT::cycle_count().wrapping_sub(t0));
     }
 
     /// Half or all of the DMA ring filled.
-    #[task(binds = DMA2_STREAM2, priority = 2, shared = [mission, parts, lidar])]
+    /// (Also pended when a held executive comes free.)
+    #[task(binds = DMA2_STREAM2, priority = 2, shared = [lidar])]
     fn lidar_dma(cx: lidar_dma::Context) {
         cx.shared.lidar.on_dma();
-        feed(cx.shared.lidar, cx.shared.mission, cx.shared.parts);
+        feed(cx.shared.lidar);
     }
 
     /// The lidar's line went idle (a frame ended), or a receive error.
-    #[task(binds = USART1, priority = 2, shared = [mission, parts, lidar])]
+    #[task(binds = USART1, priority = 2, shared = [lidar])]
     fn lidar_idle(cx: lidar_idle::Context) {
         cx.shared.lidar.on_usart();
-        feed(cx.shared.lidar, cx.shared.mission, cx.shared.parts);
+        feed(cx.shared.lidar);
     }
 
     /// The defmt serial port's transmitter (enabled with `log-serial`).
@@ -237,29 +300,32 @@ mod app {
     }
 
     /// Planning, events and status, in the background.
-    #[idle(shared = [mission, parts], local = [battery])]
-    fn idle(mut cx: idle::Context) -> ! {
+    /// Idle holds the executive only between its own steps' ends, so its
+    /// try-lock never finds it held (every task that takes it preempts
+    /// idle and lets go before idle resumes).
+    #[idle(local = [battery])]
+    fn idle(cx: idle::Context) -> ! {
         let mut next_status = STATUS_US;
         loop {
             let now = ticker::now_us();
             let t0 = DWT::cycle_count();
-            let planned = (&mut cx.shared.mission, &mut cx.shared.parts).lock(|m, p| {
-                let due = m.plan_due(now);
-                m.plan(p, now);
+            let planned = with_exec(|e| {
+                let due = e.mission.plan_due(now);
+                e.mission.plan(&mut e.parts, now);
                 due
-            });
+            })
+            .unwrap_or(false);
             if planned {
                 note_cycles(2, DWT::cycle_count().wrapping_sub(t0));
             }
             PLAN_BEAT_MS.store((now / 1000) as u32, Ordering::Relaxed);
-            while let Some(e) = cx.shared.mission.lock(|m| m.pop_event()) {
+            while let Some(e) = with_exec(|e| e.mission.pop_event()).flatten() {
                 status::event(&e);
             }
             if now >= next_status {
                 next_status = now + STATUS_US;
-                (&mut cx.shared.mission, &mut cx.shared.parts)
-                    .lock(|m, p| status::status(now, m, p.coarse));
-                health(&mut cx.shared.mission, cx.local.battery);
+                with_exec(|e| status::status(now, e.mission, e.parts.coarse));
+                health(cx.local.battery);
             }
             if !planned {
                 cortex_m::asm::wfi();
@@ -267,29 +333,35 @@ mod app {
         }
     }
 
-    /// Drains the lidar's ring into the executive.
-    fn feed(
-        lidar: &mut LidarDma,
-        mut mission: impl Mutex<T = &'static mut Mission>,
-        mut parts: impl Mutex<T = FwParts<'static>>,
-    ) {
+    /// Drains the lidar's ring into the executive; when another task
+    /// holds it, the bytes wait in the ring and the event is owed.
+    fn feed(lidar: &mut LidarDma) {
         let t0 = DWT::cycle_count();
         let now = ticker::now_us();
-        let mut buf = [0u8; 256];
-        loop {
-            let n = lidar.read(&mut buf);
-            if n == 0 {
-                break;
+        let fed = with_exec(|e| {
+            let mut buf = [0u8; 256];
+            loop {
+                let n = lidar.read(&mut buf);
+                if n == 0 {
+                    break;
+                }
+                let bytes = buf.get(..n).unwrap_or(&[]);
+                e.mission.feed_lidar(&mut e.parts, bytes, now);
             }
-            let bytes = buf.get(..n).unwrap_or(&[]);
-            mission.lock(|m| parts.lock(|p| m.feed_lidar(p, bytes, now)));
+        });
+        if fed.is_none() {
+            LIDAR_OWED.store(true, Ordering::Relaxed);
         }
         note_cycles(1, DWT::cycle_count().wrapping_sub(t0));
     }
 
     /// The robot's health: battery, worst task costs, stack, lidar.
-    fn health(mission: &mut impl Mutex<T = &'static mut Mission>, battery: &mut Battery) {
-        let (counters, parser) = mission.lock(|m| (m.counters(), m.parser_stats()));
+    fn health(battery: &mut Battery) {
+        let Some((counters, parser)) =
+            with_exec(|e| (e.mission.counters(), e.mission.parser_stats()))
+        else {
+            return;
+        };
         defmt::info!("battery {} mV", battery.read_mv().unwrap_or(0));
         defmt::info!(
             "worst cycles: control {}, lidar event {}, plan step {} (budget {} per 10 ms); stack {} of {} bytes; scans {}, plan steps {}",

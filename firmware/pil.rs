@@ -18,7 +18,11 @@ use robovac::capacity::{
     FW_FINE_PATH, FW_MISSION_BYTES,
 };
 use robovac::link::msg::{unpack_cell, Down, Ready, Report, StepMsg, TaskCost, Tick, Up};
-use robovac::mission::{Mission, MissionParts};
+use robovac::mission::{Mission, MissionParts, MotorCmd, Reflex};
+
+/// The robot's clock (the F411 at 84 MHz), for the reflex's hold in
+/// instructions.
+const CLOCK_HZ: u64 = 84_000_000;
 use robovac::Cell;
 
 /// The mission's buffers (statics of the entry point).
@@ -108,16 +112,16 @@ fn periods(
     link: &mut SimLink,
     meter: &Meter,
 ) -> TaskCost {
-    let mut worst = TaskCost::default();
+    let mut tally = Tally::default();
     let mut bytes = [0u8; 1024];
     let mut next_status = STATUS_US;
     loop {
         let t = match link.recv() {
             Down::Tick(t) => t,
-            Down::End => return worst,
+            Down::End => return tally.worst,
             _ => continue,
         };
-        let step = period(m, parts, link, meter, &t, &mut bytes, &mut worst);
+        let step = period(m, parts, link, meter, &t, &mut bytes, &mut tally);
         link.send(&Up::Step(step));
         while let Some(e) = m.pop_event() {
             status::event(&e);
@@ -130,6 +134,32 @@ fn periods(
     }
 }
 
+/// The tasks' costs so far, and whether the robot is driving.
+#[derive(Default)]
+struct Tally {
+    worst: TaskCost,
+    driving: bool,
+}
+
+impl Tally {
+    /// Counts a step that held the executive past the reflex's hold
+    /// while the robot was driving (`lidar`: a lidar event, else a plan
+    /// step): on the robot, control would brake for the rest of it.
+    fn note_hold(&mut self, insn: u64, lidar: bool) {
+        let hold = Reflex::hold_instructions(CLOCK_HZ);
+        if !self.driving || insn <= hold {
+            return;
+        }
+        let w = &mut self.worst;
+        if lidar {
+            w.lidar_over_hold += 1;
+        } else {
+            w.plan_over_hold += 1;
+        }
+        w.braked_insn += insn - hold;
+    }
+}
+
 /// One period: the lidar event, the control tick, the plan step.
 fn period<P: MissionParts>(
     m: &mut Mission,
@@ -138,35 +168,32 @@ fn period<P: MissionParts>(
     meter: &Meter,
     t: &Tick,
     bytes: &mut [u8; 1024],
-    worst: &mut TaskCost,
+    tally: &mut Tally,
 ) -> StepMsg {
+    let ms = t.t_us / 1000;
     let n = link.lidar_bytes(t.lidar_bytes as usize, bytes);
     let (_, c) = meter.measure(|| m.feed_lidar(parts, bytes.get(..n).unwrap_or(&[]), t.t_us));
-    if c > worst.lidar {
-        worst.lidar = c;
-        defmt::info!(
-            "t {} ms: worst lidar event {} instructions",
-            t.t_us / 1000,
-            c
-        );
+    tally.note_hold(c, true);
+    if c > tally.worst.lidar {
+        tally.worst.lidar = c;
+        defmt::info!("t {} ms: worst lidar event {} instructions", ms, c);
     }
     let (cmd, c) = meter.measure(|| m.control(t.t_us, t.enc));
-    if c > worst.control {
-        worst.control = c;
-        defmt::info!(
-            "t {} ms: worst control tick {} instructions",
-            t.t_us / 1000,
-            c
-        );
+    if c > tally.worst.control {
+        tally.worst.control = c;
+        defmt::info!("t {} ms: worst control tick {} instructions", ms, c);
     }
     let (_, c) = meter.measure(|| m.plan(parts, t.t_us));
-    if c > worst.plan {
-        worst.plan = c;
+    tally.note_hold(c, false);
+    tally.driving = matches!(cmd, MotorCmd::Duty(l, r) if l != 0 || r != 0);
+    if c > tally.worst.plan {
+        tally.worst.plan = c;
+        let state = defmt::Debug2Format(&m.state());
         defmt::info!(
             "t {} ms: worst plan step {} instructions ({})",
-            t.t_us / 1000,
+            ms,
             c,
-            defmt::Debug2Format(&m.state())
+            state
         );
     }
     StepMsg {

@@ -214,7 +214,7 @@ pub const FW_FINE_GRID_BYTES: usize = core::mem::size_of::<FwFineGrid>();
 const _: () = assert!(FW_FINE_GRID_BYTES <= 21_700);
 /// Bytes of the evidence map (two cells a byte).
 pub const FW_EVIDENCE_BYTES: usize = core::mem::size_of::<FwEvidence>();
-const _: () = assert!(FW_EVIDENCE_BYTES <= 28_820);
+const _: () = assert!(FW_EVIDENCE_BYTES <= 28_840);
 /// Bytes of the executive itself (lidar ring and revolution, queues,
 /// events, localisation state).
 pub const FW_EXECUTIVE_BYTES: usize = core::mem::size_of::<crate::mission::Mission>();
@@ -236,4 +236,4 @@ pub const FW_MISSION_BYTES: usize = FW_PLANNER_BYTES
     + FW_MATCHER_BYTES
     + FW_FINE_PATH * 4
     + FW_EXECUTIVE_BYTES;
-const _: () = assert!(FW_MISSION_BYTES <= 118_400);
+const _: () = assert!(FW_MISSION_BYTES <= 118_460);

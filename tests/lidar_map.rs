@@ -113,9 +113,10 @@ fn four_bit_cells_hold_their_values_apart() {
     use robovac::robot::lidar_map::{FREE_LIMIT, LIMIT};
     // 7 × 5 = 35 cells in 18 bytes: an odd count, so the last byte is half used.
     let mut m: Box<EvidenceMap<{ evidence_bytes(7 * 5) }>> = Box::new(EvidenceMap::new());
+    // Size, resolution, the box of changed cells (20 bytes) and the cells.
     assert_eq!(
         core::mem::size_of_val(&*m),
-        (12 + 18_usize).next_multiple_of(4)
+        (12 + 20 + 18_usize).next_multiple_of(4)
     );
     m.reset(7, 5, 50).unwrap();
     let want = |x: i32, y: i32| match (x * 3 + y) % 3 {
@@ -179,4 +180,60 @@ fn evidence_steps_of_four_bit_cells() {
         m.trace(50, 50, 1950, 50, true);
     }
     assert!(m.is_wall(wx, wy, true));
+}
+
+mod partial_refresh {
+    //! The planning cells derived again only around the map's changed
+    //! cells (`take_changed`, `coarse_box_of`, `update_coarse_in`) equal
+    //! the cells derived all over again: the mission's refresh after a
+    //! revolution relies on it.
+    use super::*;
+    use proptest::prelude::*;
+    use robovac::nav::cspace::{coarse_box_of, update_coarse, update_coarse_in};
+
+    const W: u32 = 60;
+    const H: u32 = 48;
+    type Map = EvidenceMap<{ evidence_bytes(60 * 48) }>;
+    type Coarse = Grid<{ robovac::math::bits::words_for(20 * 16) }>;
+
+    fn coarse_of(map: &Map, cell_mm: u32, r: u32) -> Box<Coarse> {
+        let mut g: Box<Coarse> = Box::new(Grid::new());
+        g.reset(W * 50 / cell_mm, H * 50 / cell_mm).unwrap();
+        update_coarse(map, &mut g, cell_mm, r, false).unwrap();
+        g
+    }
+
+    fn same(a: &Coarse, b: &Coarse) -> bool {
+        (0..a.height() as i32)
+            .all(|y| (0..a.width() as i32).all(|x| a.is_free(x, y) == b.is_free(x, y)))
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(200))]
+
+        #[test]
+        fn equals_a_full_refresh(
+            walls in prop::collection::vec((0i32..60, 0i32..48, 0u8..3), 0..120),
+            beams in prop::collection::vec((100i32..2900, 100i32..2300, 100i32..2900, 100i32..2300, any::<bool>()), 1..40),
+            r in 120u32..260,
+        ) {
+            let cell_mm = 150;
+            let mut map: Box<Map> = Box::new(EvidenceMap::new());
+            map.reset(W, H, 50).unwrap();
+            for &(x, y, s) in &walls {
+                let st = [CellState::Free, CellState::Occupied, CellState::Unknown][s as usize];
+                map.set_state(x, y, st);
+            }
+            let mut partial = coarse_of(&map, cell_mm, r);
+            map.take_changed();
+            for &(x0, y0, x1, y1, hit) in &beams {
+                map.trace(x0, y0, x1, y1, hit);
+            }
+            if let Some(changed) = map.take_changed() {
+                let b = coarse_box_of(50, cell_mm, r, changed);
+                update_coarse_in(&map, &mut partial, cell_mm, r, false, b).unwrap();
+            }
+            prop_assert!(same(&partial, &coarse_of(&map, cell_mm, r)));
+        }
+    }
 }

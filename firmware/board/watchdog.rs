@@ -2,19 +2,16 @@
 //! unless fed within [`TIMEOUT_MS`]. Only the control task feeds it
 //! (firmware/app.rs), so a hung control task resets the chip; a hung
 //! planner stops the motors through control (which then keeps feeding:
-//! control alive and the motors safe), and one that holds the executive
-//! keeps control from running, so the chip resets.
+//! control alive and the motors safe); a step that holds the executive
+//! past the reflex's `HUNG_US` (6 s) stops the feeding, so the chip resets.
 
 use stm32f4xx_hal::pac::IWDG;
 
-/// The timeout, ms: longer than the longest step that holds the
-/// executive. Measured in the emulator: a planning step of 31.2 M
-/// instructions in the whole studio mission (372 ms at 84 MHz), and a
-/// whole-map relocalisation after a kidnap of 75.7 M on a 48 m² flat
-/// (0.9 s; about 2.7 s scaled to a 12 × 12 m home). The robot is braked
-/// while it relocalises, so the wait is safe; a hung step still resets
-/// the chip within 4 s.
-pub const TIMEOUT_MS: u32 = 4000;
+/// The timeout, ms. Control runs every 10 ms whatever the planner does
+/// (firmware/app.rs: the executive is only ever tried), so this need only
+/// cover control's own jitter with a wide margin; short, because a hung
+/// control task leaves the motors at their last duty until the reset.
+pub const TIMEOUT_MS: u32 = 500;
 /// The LSI's nominal frequency, Hz.
 const LSI_HZ: u32 = 32_000;
 /// Prescaler /32 (PR = 3): 1 kHz, 1 ms per count.

@@ -66,6 +66,11 @@ pub struct Tick {
 }
 
 /// Firmware → host.
+///
+/// The report makes the enum 256 bytes; an `Up` lives only on the stack
+/// while one message is encoded or decoded (never in a queue), and there
+/// is no heap to box it in.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Up {
     /// Booted; the capacity it was built with.
@@ -116,6 +121,15 @@ pub struct TaskCost {
     pub lidar: u64,
     /// A plan step.
     pub plan: u64,
+    /// Plan steps that held the executive past the control reflex's hold
+    /// ([`crate::mission::Reflex::HOLD_US`] at 84 MHz) while the robot
+    /// was driving: on the robot, control brakes for their remainder.
+    pub plan_over_hold: u32,
+    /// Lidar events likewise.
+    pub lidar_over_hold: u32,
+    /// The instructions of those steps past the hold: the time the robot
+    /// would stand braked by the reflex, at 84 MHz.
+    pub braked_insn: u64,
 }
 
 /// The end-of-mission report.

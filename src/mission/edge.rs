@@ -18,6 +18,8 @@ sized_impl!([] {
             return;
         }
         m.fine_is_edge = true;
+        // The coverage's detours must build their own again.
+        m.fine_stale = true;
         let from = nearest_free_fine_within(self.p.map, self.p.fine, (pose.x_mm, pose.y_mm), 10);
         let Some(from) = from else {
             // Boxed in on the map (someone beside the robot is mapped):

@@ -50,6 +50,8 @@ sized_impl!([] {
                 self.fail(Fault::Capacity);
                 return;
             }
+            // Built for the way home: the detours build their own again.
+            m.fine_stale = true;
         }
         let from = m.queue.last_end().unwrap_or((pose.x_mm, pose.y_mm));
         let home = (m.start.x_mm, m.start.y_mm);

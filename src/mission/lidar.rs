@@ -74,7 +74,11 @@ impl Mission {
                 if mappable && (self.cfg.mode == MapMode::Unknown || self.cfg.map_known_updates) {
                     map.integrate_scan(&self.lidar.scan, &self.cfg.mount);
                     self.map_dirty = true;
-                    self.fine_stale = true;
+                    // The derived grids change only where a cell's state
+                    // did (most revolutions change none).
+                    if let Some(changed) = map.take_changed() {
+                        self.note_map_change(map.res_mm(), changed);
+                    }
                 }
             }
         }

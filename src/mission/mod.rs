@@ -118,6 +118,7 @@ mod route;
 pub mod config;
 pub mod events;
 pub mod parts;
+pub mod reflex;
 
 pub use config::{
     Counters, Fault, MapMode, MissionConfig, MotorCmd, State, HOME_TRIES, MAX_RETRIES, QUEUE, RING,
@@ -126,6 +127,7 @@ pub use config::{
 pub use events::{Capacity, Event, EventKind, EVENTS};
 pub use handoff::HANDOFF;
 pub use parts::{MissionParts, Parts, PlannerView};
+pub use reflex::{Reflex, ReflexOut};
 
 use crate::localize::Fusion;
 use crate::nav::edge::EdgePass;
@@ -134,6 +136,7 @@ use crate::nav::geometry::in_corridor;
 use crate::robot::lidar::ld06::Ld06;
 use crate::robot::lidar::scan::{Scan, ScanAssembler};
 use crate::robot::lidar::LidarProtocol;
+use crate::robot::lidar_map::{union_box, CellBox};
 use crate::robot::odometry::{Odometry, Pose};
 use crate::robot::wheel_control::WheelControl;
 use events::Events;
@@ -241,6 +244,10 @@ pub struct Mission {
     /// The route is feeding a leg (its detours take no route of their own).
     in_route: bool,
     map_dirty: bool,
+    /// The planning cells to derive again at the next refresh: around
+    /// the map's changed cells, and the cells set by hand since the last
+    /// one (the planner's own cell freed, a stalled cell blocked).
+    coarse_dirty: Option<CellBox>,
     fine_stale: bool,
     fine_is_edge: bool,
     replan_target: Option<(i32, i32)>,
@@ -311,6 +318,7 @@ impl Mission {
             route: route::Route::new(),
             in_route: false,
             map_dirty: false,
+            coarse_dirty: None,
             fine_stale: true,
             fine_is_edge: false,
             replan_target: None,

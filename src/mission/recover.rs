@@ -48,6 +48,7 @@ sized_impl!([] {
             if self.p.coarse.set_obstacle(gx, gy, true).is_ok() {
                 m.counters.blocked_cells += 1;
             }
+            m.note_coarse_set(gx, gy);
         }
     }
 

@@ -16,7 +16,7 @@
 //! [cy·res, (cy+1)·res]). World y is the map's height in mm minus this y.
 
 use crate::grid::{Grid, GridError};
-use crate::robot::lidar_map::{CellState, EvidenceMap};
+use crate::robot::lidar_map::{CellBox, CellState, EvidenceMap};
 
 /// Squared distance (mm²) from point (px, py) to the closed square of
 /// evidence cell (cx, cy), in index space.
@@ -172,13 +172,44 @@ pub fn update_coarse<const EV: usize, const GW: usize>(
     radius_mm: u32,
     unknown_blocks: bool,
 ) -> Result<(), GridError> {
-    for gy in 0..coarse.height() as i32 {
-        for gx in 0..coarse.width() as i32 {
+    let all = (0, 0, coarse.width() as i32 - 1, coarse.height() as i32 - 1);
+    update_coarse_in(map, coarse, cell_mm, radius_mm, unknown_blocks, all)
+}
+
+/// [`update_coarse`] on the planning cells of `boxed` (corners inclusive,
+/// clipped to the grid) only: the same result when the map's states
+/// changed only where [`coarse_box_of`] says.
+pub fn update_coarse_in<const EV: usize, const GW: usize>(
+    map: &EvidenceMap<EV>,
+    coarse: &mut Grid<GW>,
+    cell_mm: u32,
+    radius_mm: u32,
+    unknown_blocks: bool,
+    boxed: CellBox,
+) -> Result<(), GridError> {
+    let (w, h) = (coarse.width() as i32, coarse.height() as i32);
+    for gy in boxed.1.max(0)..=boxed.3.min(h - 1) {
+        for gx in boxed.0.max(0)..=boxed.2.min(w - 1) {
             let b = coarse_anchor(map, cell_mm, radius_mm, unknown_blocks, gx, gy).is_none();
             coarse.set_obstacle(gx, gy, b)?;
         }
     }
     Ok(())
+}
+
+/// The planning cells (of `cell_mm`) whose anchor may depend on the
+/// evidence cells of `fine` (a box of changed cells): [`coarse_anchor`]
+/// looks at the cells within `radius_mm` of points inside its planning
+/// cell, so the box grows by the radius and one cell each way.
+pub fn coarse_box_of(res_mm: u32, cell_mm: u32, radius_mm: u32, fine: CellBox) -> CellBox {
+    let (res, cell, r) = (
+        res_mm.max(1) as i64,
+        cell_mm.max(1) as i64,
+        radius_mm as i64,
+    );
+    let lo = |c: i32| ((c as i64 * res - r).div_euclid(cell) - 1) as i32;
+    let hi = |c: i32| (((c as i64 + 1) * res + r).div_euclid(cell) + 1) as i32;
+    (lo(fine.0), lo(fine.1), hi(fine.2), hi(fine.3))
 }
 
 /// Builds the fine configuration space on the evidence map's own cells:

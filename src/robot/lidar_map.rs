@@ -65,6 +65,17 @@ pub enum CellState {
     Occupied,
 }
 
+/// The state an evidence counter stands for.
+fn state_of(e: i8) -> CellState {
+    if e >= OCCUPIED_AT {
+        CellState::Occupied
+    } else if e <= FREE_AT {
+        CellState::Free
+    } else {
+        CellState::Unknown
+    }
+}
+
 /// Where the lidar sits on the robot and how its angles run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -101,6 +112,17 @@ impl LidarMount {
     }
 }
 
+/// A box of cells, corners inclusive: (x0, y0, x1, y1).
+pub type CellBox = (i32, i32, i32, i32);
+
+/// The smallest box holding `a` and `b`.
+pub fn union_box(a: Option<CellBox>, b: CellBox) -> CellBox {
+    match a {
+        Some(a) => (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3)),
+        None => b,
+    }
+}
+
 /// A fine evidence grid of `B` bytes: up to `2 × B` cells of 4 bits (size
 /// it with [`evidence_bytes`]).
 #[derive(Clone)]
@@ -108,6 +130,9 @@ pub struct EvidenceMap<const B: usize> {
     width: u32,
     height: u32,
     res_mm: u32,
+    /// The cells whose state changed since [`Self::take_changed`]: what
+    /// the grids derived from the map must look at again.
+    changed: Option<CellBox>,
     /// Cell `i` is the low nibble of byte `i / 2` when `i` is even, the
     /// high one when odd; two's complement.
     nibbles: [u8; B],
@@ -126,8 +151,21 @@ impl<const B: usize> EvidenceMap<B> {
             width: 0,
             height: 0,
             res_mm: 1,
+            changed: None,
             nibbles: [0; B],
         }
+    }
+
+    /// The box of the cells whose state ([`CellState`]) changed since the
+    /// last call (None: none did), and forgets it. A grid derived from
+    /// the states alone (a configuration space) need only be derived
+    /// again around it.
+    pub fn take_changed(&mut self) -> Option<CellBox> {
+        self.changed.take()
+    }
+
+    fn note_changed(&mut self, cx: i32, cy: i32) {
+        self.changed = Some(union_box(self.changed, (cx, cy, cx, cy)));
     }
 
     /// Sizes the map to `width × height` cells of `res_mm`, all unknown.
@@ -145,6 +183,7 @@ impl<const B: usize> EvidenceMap<B> {
         }
         self.width = width;
         self.height = height;
+        self.changed = None;
         self.res_mm = res_mm;
         self.nibbles.iter_mut().for_each(|c| *c = 0);
         Ok(())
@@ -217,27 +256,27 @@ impl<const B: usize> EvidenceMap<B> {
                 CellState::Free => FREE_LIMIT,
                 CellState::Unknown => 0,
             };
+            if state_of(self.get(i)) != st {
+                self.note_changed(cx, cy);
+            }
             self.put(i, v);
         }
     }
 
     /// What the map says about a cell (off the map: unknown).
     pub fn state(&self, cx: i32, cy: i32) -> CellState {
-        let e = self.evidence(cx, cy);
-        if e >= OCCUPIED_AT {
-            CellState::Occupied
-        } else if e <= FREE_AT {
-            CellState::Free
-        } else {
-            CellState::Unknown
-        }
+        state_of(self.evidence(cx, cy))
     }
 
     fn add(&mut self, cx: i32, cy: i32, d: i8) {
         if let Some(i) = self.index(cx, cy) {
             let c = self.get(i);
             if c != PRIOR_WALL {
-                self.put(i, c.saturating_add(d).clamp(FREE_LIMIT, LIMIT));
+                let n = c.saturating_add(d).clamp(FREE_LIMIT, LIMIT);
+                self.put(i, n);
+                if state_of(n) != state_of(c) {
+                    self.note_changed(cx, cy);
+                }
             }
         }
     }

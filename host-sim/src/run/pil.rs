@@ -47,6 +47,14 @@ pub struct FirmwareFigures {
     /// The control tick's worst case as a share of its 10 ms period at
     /// 84 MHz (the bound: 20 %).
     pub control_share_of_period: f64,
+    /// Plan steps and lidar events that held the executive past the
+    /// control reflex's hold (25 ms at 84 MHz) while the robot drove: the
+    /// robot image brakes for their remainder.
+    pub plan_steps_over_hold: u32,
+    /// Lidar events likewise.
+    pub lidar_events_over_hold: u32,
+    /// The time the robot image would stand braked by the reflex, s.
+    pub reflex_braked_s: f64,
     /// Stack used at most, bytes.
     pub stack_used_bytes: u32,
     /// Stack available, bytes.
@@ -74,6 +82,9 @@ impl From<Report> for FirmwareFigures {
             worst_lidar_insn: r.worst.lidar,
             worst_plan_insn: r.worst.plan,
             control_share_of_period: r.worst.control as f64 / BUDGET_84MHZ_10MS as f64,
+            plan_steps_over_hold: r.worst.plan_over_hold,
+            lidar_events_over_hold: r.worst.lidar_over_hold,
+            reflex_braked_s: r.worst.braked_insn as f64 / (BUDGET_84MHZ_10MS as f64 * 100.0),
             stack_used_bytes: r.stack_used,
             stack_size_bytes: r.stack_size,
             link_frames: l.frames,
