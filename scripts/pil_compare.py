@@ -62,7 +62,7 @@ def main():
             print(f"{key:22}{fw[key]:>12} instructions"
                   f" ({100 * fw[key] / budget:.1f} % of a 10 ms period at 84 MHz)")
     if "plan_steps_over_hold" in fw:
-        print(f"held past the reflex's 25 ms while driving: {fw['plan_steps_over_hold']} plan steps,"
+        print(f"held past the reflex's 60 ms while driving: {fw['plan_steps_over_hold']} plan steps,"
               f" {fw['lidar_events_over_hold']} lidar events; the robot would stand braked"
               f" {fw['reflex_braked_s']:.1f} s of {f['sim_time_s']:.0f} s")
     inj = f.get("injected", {})

@@ -10,7 +10,7 @@
 //! - within [`Reflex::HOLD_US`] of the last command it keeps that command
 //!   (a lidar event or a short planning step ends within a period or two);
 //! - past it, it brakes: the robot never drives on unguarded for more
-//!   than `HOLD_US` (at 0.3 m/s, 8 mm);
+//!   than `HOLD_US` (at 0.3 m/s, 18 mm);
 //! - it feeds the watchdog (control alive, motors safe) until the
 //!   executive has been held for [`Reflex::HUNG_US`]; a step that never
 //!   ends then lets the watchdog reset the chip.
@@ -37,9 +37,13 @@ pub struct ReflexOut {
 }
 
 impl Reflex {
-    /// The last command is kept this long without the executive: two
-    /// control periods and a half (jitter of a lidar event included).
-    pub const HOLD_US: u64 = 25_000;
+    /// The last command is kept this long without the executive: longer
+    /// than a lidar revolution's event (the scan matched and ray-cast:
+    /// about 3.7 M instructions, 44 ms at 84 MHz, on average in the
+    /// emulated studio, so a hold of 25 ms braked the robot at every
+    /// revolution), shorter than the lidar's own 100 ms revolution that
+    /// the guard's points already lag by.
+    pub const HOLD_US: u64 = 60_000;
     /// Held longer than this, the executive is taken for hung: the
     /// watchdog is no longer fed. Longer than the longest measured step
     /// that holds it (a whole-map relocalisation after a kidnap: 75.7 M
@@ -140,6 +144,6 @@ mod tests {
 
     #[test]
     fn hold_in_instructions_at_84_mhz() {
-        assert_eq!(Reflex::hold_instructions(84_000_000), 2_100_000);
+        assert_eq!(Reflex::hold_instructions(84_000_000), 5_040_000);
     }
 }

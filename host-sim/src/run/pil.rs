@@ -48,7 +48,7 @@ pub struct FirmwareFigures {
     /// 84 MHz (the bound: 20 %).
     pub control_share_of_period: f64,
     /// Plan steps and lidar events that held the executive past the
-    /// control reflex's hold (25 ms at 84 MHz) while the robot drove: the
+    /// control reflex's hold (60 ms at 84 MHz) while the robot drove: the
     /// robot image brakes for their remainder.
     pub plan_steps_over_hold: u32,
     /// Lidar events likewise.
