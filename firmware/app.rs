@@ -39,7 +39,11 @@
 //! An executive held past [`Reflex::HUNG_US`] stops the feeding: the chip
 //! resets within the watchdog's 0.5 s more.
 //!
-//! **The mission.** Unknown mode, started at boot at the centre of a
+//! **The mission.** The robot stands braked from boot until the button
+//! ([`wiring::ButtonPin`], debounced by control) is pressed: a freshly
+//! flashed robot on a bench does not drive off. The first press begins the
+//! mission, a later one sends the robot home
+//! ([`Mission::request_home`]). Unknown mode, at the centre of a
 //! 12 × 12 m map (so a home may reach 6 m from the dock each way; the map
 //! does not move). Logged: every event, and every [`STATUS_US`] the
 //! state, pose, coverage (planning cells cleaned, the robot's own count),
@@ -77,6 +81,8 @@ static EXEC: spin::Mutex<Option<Exec>> = spin::Mutex::new(None);
 static CONTROL_OWED: AtomicBool = AtomicBool::new(false);
 /// A lidar event found the executive held: its bytes wait in the DMA ring.
 static LIDAR_OWED: AtomicBool = AtomicBool::new(false);
+/// The button was pressed (control debounces it; idle acts on it).
+static BUTTON: AtomicBool = AtomicBool::new(false);
 
 /// Runs `f` on the executive, unless another task holds it (`None`);
 /// then runs the control period and lidar event owed meanwhile.
@@ -111,6 +117,7 @@ mod app {
     };
     use robovac::coverage::PlannerKind;
     use robovac::mission::MotorCmd;
+    use robovac::robot::debounce::Debounce;
     use robovac::robot::hal::{ByteSource, MotorDriver, QuadratureEncoder};
     use robovac::robot::odometry::Pose;
     use robovac::Cell;
@@ -130,6 +137,7 @@ mod app {
         right: encoders::RightEncoder,
         watchdog: watchdog::Watchdog,
         battery: Battery,
+        button: wiring::ButtonPin,
     }
 
     #[init(local = [
@@ -192,10 +200,11 @@ mod app {
         #[cfg(feature = "log-serial")]
         super::super::board::serial_log::start(gpioa.pa2.into_alternate());
         let battery = Battery::new(dp.ADC1, gpioa.pa4.into_analog());
+        let button = gpioc.pc13.into_input();
         let lidar = LidarDma::new(gpioa.pa10.into_alternate());
 
         let l = cx.local;
-        let mut parts = FwParts {
+        let parts = FwParts {
             planner: l.planner,
             search: l.search,
             coarse: l.coarse,
@@ -208,20 +217,7 @@ mod app {
         if parts.map.reset(side, side, MAP_RES_MM).is_err() {
             defmt::error!("the map does not fit its buffer");
         }
-        let half_mm = (side * MAP_RES_MM / 2) as i32;
-        let dock = Pose {
-            x_mm: half_mm,
-            y_mm: half_mm,
-            theta_mrad: 0,
-        };
-        let now = ticker::now_us();
-        l.mission.begin(&mut parts, dock);
-        defmt::info!(
-            "mission begins at ({}, {}) mm, t {} us",
-            half_mm,
-            half_mm,
-            now
-        );
+        defmt::info!("press the button (B1) to start; press it again to send the robot home");
         if let Some(mut exec) = EXEC.try_lock() {
             *exec = Some(Exec {
                 mission: l.mission,
@@ -239,13 +235,14 @@ mod app {
                 right,
                 watchdog,
                 battery,
+                button,
             },
         )
     }
 
     /// The control period: encoders in, motors out, watchdog fed; the
     /// reflex when the executive is held (also run when pended as owed).
-    #[task(binds = TIM5, priority = 3, local = [ticker, motors, left, right, watchdog, reflex: Reflex = Reflex::new()])]
+    #[task(binds = TIM5, priority = 3, local = [ticker, motors, left, right, watchdog, button, reflex: Reflex = Reflex::new(), debounce: Debounce = Debounce::new()])]
     fn control(cx: control::Context) {
         let due = cx.local.ticker.on_interrupt();
         let owed = CONTROL_OWED.swap(false, Ordering::Relaxed);
@@ -254,6 +251,10 @@ mod app {
         }
         let t0 = DWT::cycle_count();
         let now = ticker::now_us();
+        let closed = cx.local.button.is_low() == wiring::BUTTON_ACTIVE_LOW;
+        if due && cx.local.debounce.poll(closed) {
+            BUTTON.store(true, Ordering::Relaxed);
+        }
         let enc = (cx.local.left.count(), cx.local.right.count());
         // Inside the try-lock: control preempted nothing that holds it.
         let ran = EXEC
@@ -311,8 +312,12 @@ mod app {
     #[idle(local = [battery])]
     fn idle(cx: idle::Context) -> ! {
         let mut next_status = STATUS_US;
+        let mut begun = false;
         loop {
             let now = ticker::now_us();
+            if BUTTON.swap(false, Ordering::Relaxed) {
+                begun |= on_button(begun, now);
+            }
             let t0 = DWT::cycle_count();
             let planned = with_exec(|e| {
                 let due = e.mission.plan_due(now);
@@ -336,6 +341,31 @@ mod app {
                 cortex_m::asm::wfi();
             }
         }
+    }
+
+    /// The button: the first press begins the mission (the robot stands
+    /// braked until then), a later one sends the robot home. True when
+    /// the mission has begun.
+    fn on_button(begun: bool, now: u64) -> bool {
+        if begun {
+            defmt::info!("button: going home");
+            with_exec(|e| e.mission.request_home());
+            return true;
+        }
+        let half_mm = (FW_HOME_SIDE as u32 * MAP_RES_MM / 2) as i32;
+        let dock = Pose {
+            x_mm: half_mm,
+            y_mm: half_mm,
+            theta_mrad: 0,
+        };
+        let ok = with_exec(|e| e.mission.begin(&mut e.parts, dock)).is_some();
+        defmt::info!(
+            "button: mission begins at ({}, {}) mm, t {} us",
+            half_mm,
+            half_mm,
+            now
+        );
+        ok
     }
 
     /// Drains the lidar's ring into the executive; when another task

@@ -118,6 +118,10 @@ fn periods(
     loop {
         let t = match link.recv() {
             Down::Tick(t) => t,
+            Down::Home => {
+                m.request_home();
+                continue;
+            }
             Down::End => return tally.worst,
             _ => continue,
         };
@@ -174,17 +178,20 @@ fn period<P: MissionParts>(
     let n = link.lidar_bytes(t.lidar_bytes as usize, bytes);
     let (_, c) = meter.measure(|| m.feed_lidar(parts, bytes.get(..n).unwrap_or(&[]), t.t_us));
     tally.note_hold(c, true);
+    tally.worst.total_insn += c;
     if c > tally.worst.lidar {
         tally.worst.lidar = c;
         defmt::info!("t {} ms: worst lidar event {} instructions", ms, c);
     }
     let (cmd, c) = meter.measure(|| m.control(t.t_us, t.enc));
+    tally.worst.total_insn += c;
     if c > tally.worst.control {
         tally.worst.control = c;
         defmt::info!("t {} ms: worst control tick {} instructions", ms, c);
     }
     let (_, c) = meter.measure(|| m.plan(parts, t.t_us));
     tally.note_hold(c, false);
+    tally.worst.total_insn += c;
     tally.driving = matches!(cmd, MotorCmd::Duty(l, r) if l != 0 || r != 0);
     if c > tally.worst.plan {
         tally.worst.plan = c;

@@ -65,6 +65,10 @@ def main():
         print(f"held past the reflex's 60 ms while driving: {fw['plan_steps_over_hold']} plan steps,"
               f" {fw['lidar_events_over_hold']} lidar events; the robot would stand braked"
               f" {fw['reflex_braked_s']:.1f} s of {f['sim_time_s']:.0f} s")
+    if fw.get("total_insn"):
+        load = fw["total_insn"] / (84e6 * f["sim_time_s"])
+        print(f"processor load         {fw['total_insn']:>12} instructions in {f['sim_time_s']:.0f} s:"
+              f" {100 * load:.1f} % of 84 MHz (one instruction a cycle)")
     inj = f.get("injected", {})
     if any(inj.values()):
         print("injected: " + ", ".join(f"{k} {v}" for k, v in inj.items()))

@@ -18,6 +18,7 @@
 //! | LD06 TX → | PA10 (D2) | USART1 RX, DMA2 stream 2 channel 4 |
 //! | battery (divider 1:4) | PA4 (A2) | ADC1 IN4 |
 //! | defmt over serial | PA2 | USART2 TX (the ST-LINK virtual COM port) |
+//! | start / home button | PC13 (the Nucleo's blue B1) | GPIO input, low = pressed |
 //! | control clock | — | TIM5, 1 MHz, compare every 10 ms |
 //!
 //! Power: the LD06 and the TB6612's VM from the battery side (5 V for the
@@ -28,7 +29,7 @@ use robovac::robot::lidar_map::LidarMount;
 use robovac::robot::odometry::DriveGeometry;
 use robovac::robot::wheel_control::WheelGains;
 use stm32f4xx_hal::gpio::{
-    gpioa, gpiob, gpioc, Alternate, Analog, Output, PushPull, PA0, PA1, PA6, PA7,
+    gpioa, gpiob, gpioc, Alternate, Analog, Input, Output, PushPull, PA0, PA1, PA6, PA7,
 };
 use stm32f4xx_hal::pac;
 
@@ -91,6 +92,13 @@ pub type LidarRxPin = gpioa::PA10<Alternate<7, PushPull>>;
 pub const LIDAR_PCLK_HZ: u32 = super::clock::PCLK2_HZ;
 /// The LD06's baud rate.
 pub const LIDAR_BAUD: u32 = 230_400;
+
+/// The start / home button: the Nucleo's blue B1 on PC13 (pulled up on
+/// the board; pressed reads low). Pressed once: the mission begins;
+/// pressed again: the robot goes home.
+pub type ButtonPin = gpioc::PC13<Input>;
+/// Whether the button reads low when pressed.
+pub const BUTTON_ACTIVE_LOW: bool = true;
 
 /// The battery's ADC pin (PA4 = ADC1 IN4) and channel.
 pub type BatteryPin = gpioa::PA4<Analog>;

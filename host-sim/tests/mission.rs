@@ -26,6 +26,7 @@ fn opts(map: &str, mode: MapMode, people: usize, noise: Noise, seed: u64) -> Mis
         faults: Default::default(),
         start_heading: None,
         kidnap_s: None,
+        home_s: None,
         localize: true,
         firmware_order: false,
         capacity: Capacity::Host,
@@ -272,4 +273,37 @@ fn firmware_capacity_cleans_the_office() {
         "no route taken: {:?}",
         rep.counters
     );
+}
+
+/// The robot's button mid-mission (`Mission::request_home`): it leaves
+/// cleaning within a planning step, drives home and docks; checked on the
+/// truth, with the floor left uncleaned.
+#[test]
+fn the_button_sends_the_robot_home() {
+    use robovac::mission::{EventKind, State};
+    let mut o = opts("home", MapMode::Known, 1, Noise::Realistic, 3);
+    o.home_s = Some(120.0);
+    let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
+    check_truth(&o, &rep, &t);
+    assert!(rep.finished && rep.docked, "{rep:?}");
+    assert_eq!(rep.final_state, "Done", "{rep:?}");
+    assert!(rep.coverage > 0.05 && rep.coverage < 0.6, "{rep:?}");
+    assert_eq!(rep.counters.battery_returns, 0, "{rep:?}");
+    // The first state change after the press is toward home, at once.
+    let next = t
+        .events
+        .iter()
+        .find(|e| e.at_us >= 120_000_000 && matches!(e.kind, EventKind::State { .. }))
+        .expect("a state change after the press");
+    assert!(
+        matches!(
+            next.kind,
+            EventKind::State {
+                to: State::Return,
+                ..
+            }
+        ),
+        "{next:?}"
+    );
+    assert!(next.at_us <= 120_200_000, "{next:?}");
 }

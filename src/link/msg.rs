@@ -33,6 +33,8 @@ pub enum Down {
     Start,
     /// One control period.
     Tick(Tick),
+    /// The robot's button: go home ([`crate::mission::Mission::request_home`]).
+    Home,
     /// The mission is over (done or out of time): send the report.
     End,
 }
@@ -130,6 +132,9 @@ pub struct TaskCost {
     /// The instructions of those steps past the hold: the time the robot
     /// would stand braked by the reflex, at 84 MHz.
     pub braked_insn: u64,
+    /// Every task's instructions over the mission (lidar events, control
+    /// ticks, plan steps): the processor's load.
+    pub total_insn: u64,
 }
 
 /// The end-of-mission report.

@@ -244,6 +244,8 @@ pub struct Mission {
     /// The route is feeding a leg (its detours take no route of their own).
     in_route: bool,
     map_dirty: bool,
+    /// Someone asked the robot home ([`Mission::request_home`]).
+    home_requested: bool,
     /// The planning cells to derive again at the next refresh: around
     /// the map's changed cells, and the cells set by hand since the last
     /// one (the planner's own cell freed, a stalled cell blocked).
@@ -318,6 +320,7 @@ impl Mission {
             route: route::Route::new(),
             in_route: false,
             map_dirty: false,
+            home_requested: false,
             coarse_dirty: None,
             fine_stale: true,
             fine_is_edge: false,
@@ -418,6 +421,15 @@ impl Mission {
         };
         self.events.track(now_us, self.state());
         cmd
+    }
+
+    /// The owner (the robot's button) or a low battery asks the robot
+    /// home: at the next planning step in which it is cleaning (the lanes
+    /// or the edge pass) it stops cleaning and returns to the dock, as
+    /// when the cleaning budget runs out. Already on its way home, done
+    /// or failed: nothing changes.
+    pub fn request_home(&mut self) {
+        self.home_requested = true;
     }
 
     /// The next event, oldest first.

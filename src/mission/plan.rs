@@ -77,15 +77,18 @@ sized_impl!([] {
         }
     }
 
-    /// Battery: after the cleaning budget, go home. True when it did.
+    /// Battery: after the cleaning budget, or when asked
+    /// ([`super::Mission::request_home`]), go home. True when it did.
     fn battery_spent(&mut self, now_us: u64, pose: &Pose) -> bool {
         let m = &mut *self.m;
-        if !matches!(m.phase, Phase::Cover | Phase::Edge)
-            || now_us.saturating_sub(m.started_us) <= m.cfg.battery_us
-        {
+        let spent = now_us.saturating_sub(m.started_us) > m.cfg.battery_us;
+        if !matches!(m.phase, Phase::Cover | Phase::Edge) || !(spent || m.home_requested) {
             return false;
         }
-        m.counters.battery_returns += 1;
+        m.home_requested = false;
+        if spent {
+            m.counters.battery_returns += 1;
+        }
         m.feed = None;
         m.route.clear();
         m.activity = Activity::Follow;

@@ -31,6 +31,7 @@ fn cmd_demo() -> Result<(), String> {
         faults: Default::default(),
         start_heading: None,
         kidnap_s: None,
+        home_s: None,
         localize: true,
         firmware_order: false,
         capacity: Default::default(),

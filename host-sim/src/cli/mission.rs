@@ -61,6 +61,10 @@ pub struct Args {
     /// away at another heading.
     #[arg(long)]
     pub kidnap: Option<f64>,
+    /// Press the robot's button at this sim time (seconds): it stops
+    /// cleaning and goes home to the dock.
+    #[arg(long)]
+    pub home_at: Option<f64>,
     /// Odometry alone: no scan matching (for comparison).
     #[arg(long)]
     pub no_localize: bool,
@@ -105,6 +109,7 @@ pub fn run(a: Args) -> Result<(), String> {
         events,
         firmware_order,
         kidnap,
+        home_at,
         no_localize,
         capacity,
         pil,
@@ -119,6 +124,9 @@ pub fn run(a: Args) -> Result<(), String> {
     }
     if kidnap.is_some_and(|t| !(t.is_finite() && t >= 0.0)) {
         return Err("--kidnap must be a time in seconds, 0 or more".into());
+    }
+    if home_at.is_some_and(|t| !(t.is_finite() && t >= 0.0)) {
+        return Err("--home-at must be a time in seconds, 0 or more".into());
     }
     let kind = host_sim::run::plan::planner_by_name(&planner)
         .ok_or_else(|| format!("unknown planner {planner:?}"))?;
@@ -144,6 +152,7 @@ pub fn run(a: Args) -> Result<(), String> {
         },
         start_heading: None,
         kidnap_s: kidnap,
+        home_s: home_at,
         localize: !no_localize,
         firmware_order,
         capacity,

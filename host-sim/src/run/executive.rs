@@ -23,6 +23,8 @@ pub trait Executive {
     fn link_noise(&mut self, _bytes: &[u8]) -> Result<(), String> {
         Ok(())
     }
+    /// The robot's button: go home.
+    fn request_home(&mut self) -> Result<(), String>;
     /// The next event, oldest first.
     fn pop_event(&mut self) -> Option<Event>;
     /// The mission is over.
@@ -81,6 +83,10 @@ impl Executive for Native<'_> {
         })
     }
 
+    fn request_home(&mut self) -> Result<(), String> {
+        self.mission.request_home();
+        Ok(())
+    }
     fn pop_event(&mut self) -> Option<Event> {
         self.mission.pop_event()
     }

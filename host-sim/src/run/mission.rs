@@ -56,6 +56,8 @@ pub struct MissionOptions {
     pub start_heading: Option<f64>,
     /// Lift the robot at this sim time (s) and put it down 1–3 m away.
     pub kidnap_s: Option<f64>,
+    /// Press the robot's button at this sim time (s): go home.
+    pub home_s: Option<f64>,
     /// Scan matching on (off: odometry alone, for comparison).
     pub localize: bool,
     /// Call the executive as the firmware does: `control` every period and
@@ -271,11 +273,16 @@ pub(crate) fn drive(
     let trace_on = std::env::var_os("ROBOVAC_DEBUG_TRACE").is_some();
     let mut seen_collisions = 0usize;
     let mut kidnap_us = opts.kidnap_s.map(|t| (t * 1e6) as u64);
+    let mut home_us = opts.home_s.map(|t| (t * 1e6) as u64);
     let mut inject = super::inject::Injector::new(opts.faults, opts.seed);
     while sim.t_us < max_us && !mission.finished() {
         if kidnap_us.is_some_and(|t| sim.t_us >= t) {
             kidnap_us = None;
             trace.kidnap = sim.kidnap().map(|p| (sim.t_us as f64 * 1e-6, p));
+        }
+        if home_us.is_some_and(|t| sim.t_us >= t) {
+            home_us = None;
+            mission.request_home()?;
         }
         control_period(sim, mission, opts, &mut inject)?;
         while let Some(e) = mission.pop_event() {

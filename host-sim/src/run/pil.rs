@@ -55,6 +55,10 @@ pub struct FirmwareFigures {
     pub lidar_events_over_hold: u32,
     /// The time the robot image would stand braked by the reflex, s.
     pub reflex_braked_s: f64,
+    /// Every task's instructions over the mission, and their share of
+    /// the F411's 84 MHz over the mission's time (the processor's load,
+    /// counting one instruction a cycle).
+    pub total_insn: u64,
     /// Stack used at most, bytes.
     pub stack_used_bytes: u32,
     /// Stack available, bytes.
@@ -85,6 +89,7 @@ impl From<Report> for FirmwareFigures {
             plan_steps_over_hold: r.worst.plan_over_hold,
             lidar_events_over_hold: r.worst.lidar_over_hold,
             reflex_braked_s: r.worst.braked_insn as f64 / (BUDGET_84MHZ_10MS as f64 * 100.0),
+            total_insn: r.worst.total_insn,
             stack_used_bytes: r.stack_used,
             stack_size_bytes: r.stack_size,
             link_frames: l.frames,
@@ -335,6 +340,9 @@ impl Executive for Pil {
             .map_err(|e| format!("sim link: {e}"))
     }
 
+    fn request_home(&mut self) -> Result<(), String> {
+        self.send(&Down::Home)
+    }
     fn pop_event(&mut self) -> Option<Event> {
         self.events.pop_front()
     }

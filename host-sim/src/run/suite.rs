@@ -139,6 +139,7 @@ pub fn run_suite(
                 faults: Default::default(),
                 start_heading: None,
                 kidnap_s: None,
+                home_s: None,
                 localize: true,
                 firmware_order: false,
                 capacity: Default::default(),
