@@ -115,6 +115,9 @@ impl LidarMount {
 /// A box of cells, corners inclusive: (x0, y0, x1, y1).
 pub type CellBox = (i32, i32, i32, i32);
 
+/// The empty box (its corners crossed).
+const NO_CELLS: CellBox = (i32::MAX, i32::MAX, i32::MIN, i32::MIN);
+
 /// The smallest box holding `a` and `b`.
 pub fn union_box(a: Option<CellBox>, b: CellBox) -> CellBox {
     match a {
@@ -132,7 +135,9 @@ pub struct EvidenceMap<const B: usize> {
     res_mm: u32,
     /// The cells whose state changed since [`Self::take_changed`]: what
     /// the grids derived from the map must look at again.
-    changed: Option<CellBox>,
+    /// [`NO_CELLS`] when none did (a plain box: a cell's note is four
+    /// comparisons, in the ray-cast's inner loop).
+    changed: CellBox,
     /// Cell `i` is the low nibble of byte `i / 2` when `i` is even, the
     /// high one when odd; two's complement.
     nibbles: [u8; B],
@@ -151,7 +156,7 @@ impl<const B: usize> EvidenceMap<B> {
             width: 0,
             height: 0,
             res_mm: 1,
-            changed: None,
+            changed: NO_CELLS,
             nibbles: [0; B],
         }
     }
@@ -161,11 +166,14 @@ impl<const B: usize> EvidenceMap<B> {
     /// the states alone (a configuration space) need only be derived
     /// again around it.
     pub fn take_changed(&mut self) -> Option<CellBox> {
-        self.changed.take()
+        let b = core::mem::replace(&mut self.changed, NO_CELLS);
+        (b.0 <= b.2).then_some(b)
     }
 
-    fn note_changed(&mut self, cx: i32, cy: i32) {
-        self.changed = Some(union_box(self.changed, (cx, cy, cx, cy)));
+    /// Adds a box of changed cells (a beam's, gathered in registers).
+    fn note_changed(&mut self, c: CellBox) {
+        let b = &mut self.changed;
+        *b = (b.0.min(c.0), b.1.min(c.1), b.2.max(c.2), b.3.max(c.3));
     }
 
     /// Sizes the map to `width × height` cells of `res_mm`, all unknown.
@@ -183,7 +191,7 @@ impl<const B: usize> EvidenceMap<B> {
         }
         self.width = width;
         self.height = height;
-        self.changed = None;
+        self.changed = NO_CELLS;
         self.res_mm = res_mm;
         self.nibbles.iter_mut().for_each(|c| *c = 0);
         Ok(())
@@ -249,6 +257,9 @@ impl<const B: usize> EvidenceMap<B> {
 
     /// Sets a cell to a definite state (a prior map): [`LIMIT`] or
     /// [`FREE_LIMIT`] evidence, or 0 for unknown. Off the map: ignored.
+    /// Not recorded for [`Self::take_changed`]: a prior map is loaded
+    /// before a mission begins, and the mission derives its grids whole
+    /// then.
     pub fn set_state(&mut self, cx: i32, cy: i32, st: CellState) {
         if let Some(i) = self.index(cx, cy) {
             let v = match st {
@@ -256,9 +267,6 @@ impl<const B: usize> EvidenceMap<B> {
                 CellState::Free => FREE_LIMIT,
                 CellState::Unknown => 0,
             };
-            if state_of(self.get(i)) != st {
-                self.note_changed(cx, cy);
-            }
             self.put(i, v);
         }
     }
@@ -268,17 +276,23 @@ impl<const B: usize> EvidenceMap<B> {
         state_of(self.evidence(cx, cy))
     }
 
-    fn add(&mut self, cx: i32, cy: i32, d: i8) {
-        if let Some(i) = self.index(cx, cy) {
-            let c = self.get(i);
-            if c != PRIOR_WALL {
-                let n = c.saturating_add(d).clamp(FREE_LIMIT, LIMIT);
-                self.put(i, n);
-                if state_of(n) != state_of(c) {
-                    self.note_changed(cx, cy);
-                }
-            }
+    /// Adds `d` to a cell's evidence; true when its state changed.
+    fn add(&mut self, cx: i32, cy: i32, d: i8) -> bool {
+        let Some(i) = self.index(cx, cy) else {
+            return false;
+        };
+        let c = self.get(i);
+        if c == PRIOR_WALL {
+            return false;
         }
+        let n = c.saturating_add(d).clamp(FREE_LIMIT, LIMIT);
+        // Most updates leave a settled cell as it was (a free cell at the
+        // floor, a wall at the top): nothing to write.
+        if n == c {
+            return false;
+        }
+        self.put(i, n);
+        (n >= OCCUPIED_AT) != (c >= OCCUPIED_AT) || (n <= FREE_AT) != (c <= FREE_AT)
     }
 
     /// Known mode: turns every occupied cell into a [`PRIOR_WALL`], fixed
@@ -340,12 +354,19 @@ impl<const B: usize> EvidenceMap<B> {
         let sy = if cy < ey { 1 } else { -1 };
         let mut err = dx + dy;
         let mut n = 0u32;
+        // The cells whose state changed on this beam.
+        let mut ch = NO_CELLS;
+        let note = |ch: &mut CellBox, x: i32, y: i32| {
+            *ch = (ch.0.min(x), ch.1.min(y), ch.2.max(x), ch.3.max(y));
+        };
         // Bounded: each iteration moves one cell closer.
         for _ in 0..=(dx - dy) {
             if (cx, cy) == (ex, ey) {
                 break;
             }
-            self.add(cx, cy, MISS);
+            if self.add(cx, cy, MISS) {
+                note(&mut ch, cx, cy);
+            }
             n += 1;
             let e2 = 2 * err;
             if e2 >= dy {
@@ -357,12 +378,16 @@ impl<const B: usize> EvidenceMap<B> {
                 cy += sy;
             }
         }
-        if hit {
-            if !self.near_prior_wall(ex, ey) {
-                self.add(ex, ey, HIT);
-            }
+        let end = if hit {
+            !self.near_prior_wall(ex, ey) && self.add(ex, ey, HIT)
         } else {
-            self.add(ex, ey, MISS);
+            self.add(ex, ey, MISS)
+        };
+        if end {
+            note(&mut ch, ex, ey);
+        }
+        if ch.0 <= ch.2 {
+            self.note_changed(ch);
         }
         n + 1
     }
