@@ -3,7 +3,7 @@
 //! the fine map and detoured by A* on it when a wall's end is in the way,
 //! and the fine path fed into the sub-path queue.
 
-use super::{union_box, CellBox, Fault, Feed, Mission, Phase, QUEUE};
+use super::{take_box, union_box, CellBox, Fault, Feed, Mission, Phase, QUEUE};
 use crate::coverage::{CoverageError, Step};
 use crate::grid::Cell;
 use crate::nav::cspace;
@@ -23,14 +23,14 @@ impl Mission {
     pub(super) fn note_map_change(&mut self, res_mm: u32, fine: CellBox) {
         let r = (self.cfg.radius_mm + self.cfg.margin_mm) as u32;
         let b = cspace::coarse_box_of(res_mm, self.cfg.plan_cell_mm, r, fine);
-        self.coarse_dirty = Some(union_box(self.coarse_dirty, b));
+        self.coarse_dirty = union_box(self.coarse_dirty, b);
         self.fine_stale = true;
     }
 
     /// A planning cell set by hand: derived from the map again at the
     /// next refresh (as every cell was when each refresh derived all).
     pub(super) fn note_coarse_set(&mut self, gx: i32, gy: i32) {
-        self.coarse_dirty = Some(union_box(self.coarse_dirty, (gx, gy, gx, gy)));
+        self.coarse_dirty = union_box(self.coarse_dirty, (gx, gy, gx, gy));
     }
 }
 
@@ -63,7 +63,7 @@ sized_impl!([] {
             return;
         }
         m.map_dirty = false;
-        let Some(dirty) = m.coarse_dirty.take() else {
+        let Some(dirty) = take_box(&mut m.coarse_dirty) else {
             return;
         };
         let r = (m.cfg.radius_mm + m.cfg.margin_mm) as u32;
@@ -79,7 +79,7 @@ sized_impl!([] {
 
     pub(super) fn start_cover(&mut self, now_us: u64, pose: &Pose) {
         self.m.map_dirty = true;
-        self.m.coarse_dirty = Some(ALL_CELLS);
+        self.m.coarse_dirty = ALL_CELLS;
         self.refresh_coarse();
         let m = &mut *self.m;
         let cell = m.cfg.plan_cell_mm;

@@ -136,7 +136,7 @@ use crate::nav::geometry::in_corridor;
 use crate::robot::lidar::ld06::Ld06;
 use crate::robot::lidar::scan::{Scan, ScanAssembler};
 use crate::robot::lidar::LidarProtocol;
-use crate::robot::lidar_map::{union_box, CellBox};
+use crate::robot::lidar_map::{take_box, union_box, CellBox, NO_CELLS};
 use crate::robot::odometry::{Odometry, Pose};
 use crate::robot::wheel_control::WheelControl;
 use events::Events;
@@ -249,7 +249,7 @@ pub struct Mission {
     /// The planning cells to derive again at the next refresh: around
     /// the map's changed cells, and the cells set by hand since the last
     /// one (the planner's own cell freed, a stalled cell blocked).
-    coarse_dirty: Option<CellBox>,
+    coarse_dirty: CellBox,
     fine_stale: bool,
     fine_is_edge: bool,
     replan_target: Option<(i32, i32)>,
@@ -321,7 +321,7 @@ impl Mission {
             in_route: false,
             map_dirty: false,
             home_requested: false,
-            coarse_dirty: None,
+            coarse_dirty: NO_CELLS,
             fine_stale: true,
             fine_is_edge: false,
             replan_target: None,

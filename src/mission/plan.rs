@@ -51,7 +51,7 @@ sized_impl!([] {
     /// One planning step: the battery, the guard's hold, then the phase's
     /// own work. The one state-machine dispatch of the executive.
     fn step(&mut self, now_us: u64, pose: &Pose) {
-        if self.battery_spent(now_us, pose) {
+        if self.go_home_when_due(now_us, pose) {
             return;
         }
         self.guard_hold(now_us, pose);
@@ -79,7 +79,7 @@ sized_impl!([] {
 
     /// Battery: after the cleaning budget, or when asked
     /// ([`super::Mission::request_home`]), go home. True when it did.
-    fn battery_spent(&mut self, now_us: u64, pose: &Pose) -> bool {
+    fn go_home_when_due(&mut self, now_us: u64, pose: &Pose) -> bool {
         let m = &mut *self.m;
         let spent = now_us.saturating_sub(m.started_us) > m.cfg.battery_us;
         if !matches!(m.phase, Phase::Cover | Phase::Edge) || !(spent || m.home_requested) {

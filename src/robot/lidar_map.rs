@@ -115,15 +115,19 @@ impl LidarMount {
 /// A box of cells, corners inclusive: (x0, y0, x1, y1).
 pub type CellBox = (i32, i32, i32, i32);
 
-/// The empty box (its corners crossed).
-const NO_CELLS: CellBox = (i32::MAX, i32::MAX, i32::MIN, i32::MIN);
+/// The empty box (its corners crossed): [`union_box`]'s identity.
+pub const NO_CELLS: CellBox = (i32::MAX, i32::MAX, i32::MIN, i32::MIN);
 
-/// The smallest box holding `a` and `b`.
-pub fn union_box(a: Option<CellBox>, b: CellBox) -> CellBox {
-    match a {
-        Some(a) => (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3)),
-        None => b,
-    }
+/// The smallest box holding `a` and `b` (either may be [`NO_CELLS`]).
+#[inline]
+pub fn union_box(a: CellBox, b: CellBox) -> CellBox {
+    (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3))
+}
+
+/// Takes the box out of `b`, leaving [`NO_CELLS`]; None when it was empty.
+pub fn take_box(b: &mut CellBox) -> Option<CellBox> {
+    let t = core::mem::replace(b, NO_CELLS);
+    (t.0 <= t.2).then_some(t)
 }
 
 /// A fine evidence grid of `B` bytes: up to `2 × B` cells of 4 bits (size
@@ -166,14 +170,7 @@ impl<const B: usize> EvidenceMap<B> {
     /// the states alone (a configuration space) need only be derived
     /// again around it.
     pub fn take_changed(&mut self) -> Option<CellBox> {
-        let b = core::mem::replace(&mut self.changed, NO_CELLS);
-        (b.0 <= b.2).then_some(b)
-    }
-
-    /// Adds a box of changed cells (a beam's, gathered in registers).
-    fn note_changed(&mut self, c: CellBox) {
-        let b = &mut self.changed;
-        *b = (b.0.min(c.0), b.1.min(c.1), b.2.max(c.2), b.3.max(c.3));
+        take_box(&mut self.changed)
     }
 
     /// Sizes the map to `width × height` cells of `res_mm`, all unknown.
@@ -354,18 +351,16 @@ impl<const B: usize> EvidenceMap<B> {
         let sy = if cy < ey { 1 } else { -1 };
         let mut err = dx + dy;
         let mut n = 0u32;
-        // The cells whose state changed on this beam.
+        // The cells whose state changed on this beam, gathered in
+        // registers and merged into the map's box once.
         let mut ch = NO_CELLS;
-        let note = |ch: &mut CellBox, x: i32, y: i32| {
-            *ch = (ch.0.min(x), ch.1.min(y), ch.2.max(x), ch.3.max(y));
-        };
         // Bounded: each iteration moves one cell closer.
         for _ in 0..=(dx - dy) {
             if (cx, cy) == (ex, ey) {
                 break;
             }
             if self.add(cx, cy, MISS) {
-                note(&mut ch, cx, cy);
+                ch = union_box(ch, (cx, cy, cx, cy));
             }
             n += 1;
             let e2 = 2 * err;
@@ -384,11 +379,9 @@ impl<const B: usize> EvidenceMap<B> {
             self.add(ex, ey, MISS)
         };
         if end {
-            note(&mut ch, ex, ey);
+            ch = union_box(ch, (ex, ey, ex, ey));
         }
-        if ch.0 <= ch.2 {
-            self.note_changed(ch);
-        }
+        self.changed = union_box(self.changed, ch);
         n + 1
     }
 
