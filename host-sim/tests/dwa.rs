@@ -238,6 +238,26 @@ fn dwa_behaves() {
 }
 
 #[test]
+fn recorded_situation_at_full_capacity() {
+    use robovac::nav::dwa::{recorded_full, RECORDED_GOAL, RECORDED_VELOCITY};
+    let r = plan(
+        &DEFAULT_PARAMS,
+        RECORDED_VELOCITY.0,
+        RECORDED_VELOCITY.1,
+        RECORDED_GOAL,
+        &recorded_full(),
+    );
+    println!("recorded situation, 64 points: {r:?}");
+    // The emulated run must reach this command too (its golden line).
+    match r {
+        DwaResult::Command {
+            v_mm_s, w_mrad_s, ..
+        } => assert_eq!((v_mm_s, w_mrad_s), robovac::nav::dwa::RECORDED_FULL_COMMAND),
+        DwaResult::NoAdmissible => panic!("no admissible motion"),
+    }
+}
+
+#[test]
 fn recorded_situation() {
     use robovac::nav::dwa::{RECORDED_GOAL, RECORDED_OBSTACLES, RECORDED_VELOCITY};
     let r = plan(
@@ -256,5 +276,84 @@ fn recorded_situation() {
             assert_eq!((v_mm_s, w_mrad_s), robovac::nav::dwa::RECORDED_COMMAND);
         }
         DwaResult::NoAdmissible => panic!("no admissible motion"),
+    }
+}
+
+/// The rollout as first written (each obstacle converted to µm inside the
+/// loop, the contact tested per point), kept as the exact reference for
+/// the faster loop of `evaluate` (obstacles converted once, a per-step
+/// nearest distance). Only the clearance's d² and the contact distance
+/// come from this loop; the rest of a sample is shared code.
+fn reference_rollout(p: &DwaParams, v: i32, w: i32, obs: &[(i32, i32)]) -> (i64, Option<i64>) {
+    use robovac::math::angle::sin_cos_q30;
+    let steps = (p.horizon_ms / p.step_ms.max(1)).max(1);
+    let (mut x_um, mut y_um) = (0i64, 0i64);
+    let r_um = p.radius_mm as i64 * 1000;
+    let (step_um, dth) = (v as i64 * p.step_ms as i64, w as i64 * p.step_ms as i64);
+    let (mut min_d2, mut travelled, mut hit) = (i64::MAX, 0i64, None);
+    let (mut s, mut c) = sin_cos_q30(dth / 2);
+    let (rs, rc) = sin_cos_q30(dth);
+    for _ in 0..steps {
+        x_um += (step_um * c) >> 30;
+        y_um += (step_um * s) >> 30;
+        (c, s) = ((c * rc - s * rs) >> 30, (s * rc + c * rs) >> 30);
+        travelled += step_um.abs();
+        let (xi, yi) = (
+            x_um.clamp(-(1 << 30), 1 << 30) as i32,
+            y_um.clamp(-(1 << 30), 1 << 30) as i32,
+        );
+        for &(ox, oy) in obs {
+            let dx = (ox.clamp(-2_000_000, 2_000_000) * 1000).saturating_sub(xi) as i64;
+            let dy = (oy.clamp(-2_000_000, 2_000_000) * 1000).saturating_sub(yi) as i64;
+            let d2 = dx * dx + dy * dy;
+            min_d2 = min_d2.min(d2);
+            if d2 <= r_um * r_um && hit.is_none() {
+                hit = Some(travelled);
+            }
+        }
+    }
+    (min_d2, hit)
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(400))]
+    /// The fast loop gives every sample exactly what the reference loop
+    /// gives (clearance and admissibility from the same d² and contact),
+    /// including far and clamped obstacles and more than MAX_OBSTACLES.
+    #[test]
+    fn fast_rollout_equals_the_reference(
+        v in 0i32..=500,
+        w in -1000i32..=1000,
+        goal in (-5000i32..5000, -5000i32..5000),
+        obs in proptest::collection::vec((-3_000_000i32..3_000_000, -3_000_000i32..3_000_000), 0..80),
+        near in proptest::collection::vec((-1500i32..1500, -1500i32..1500), 0..80),
+    ) {
+        use robovac::nav::dwa::{evaluate, MAX_OBSTACLES};
+        let p = DEFAULT_PARAMS;
+        // Mostly near points (contacts and clearances), some far ones.
+        let all: Vec<(i32, i32)> = near.iter().chain(obs.iter().take(8)).copied().collect();
+        let used = &all[..all.len().min(MAX_OBSTACLES)];
+        let got = evaluate(&p, v, w, goal, &all);
+        let (min_d2, hit) = reference_rollout(&p, v, w, used);
+        let cap = p.clearance_cap_mm as i64;
+        let clearance = if min_d2 == i64::MAX {
+            cap
+        } else {
+            (robovac::math::cost::isqrt_u64(min_d2 as u64) as i64 / 1000 - p.radius_mm as i64)
+                .clamp(0, cap)
+        };
+        proptest::prop_assert_eq!(got.clearance_mm as i64, clearance);
+        let step_um = (v as i64 * p.step_ms as i64).abs();
+        let ok = match hit {
+            None => true,
+            Some(_) if v == 0 => true,
+            Some(h) => {
+                let dist = ((h - step_um) / 1000).max(0);
+                let ang = dist * 1000 / p.radius_mm as i64;
+                (v as i64).pow(2) <= 2 * dist * p.acc_mm_s2 as i64
+                    && (w as i64).pow(2) <= 2 * ang * p.w_acc_mrad_s2 as i64
+            }
+        };
+        proptest::prop_assert_eq!(got.ok, ok);
     }
 }

@@ -143,6 +143,8 @@ pub fn window(p: &DwaParams, v_mm_s: i32, w_mrad_s: i32) -> ([i32; V_SAMPLES], [
 }
 
 /// Rolls out (v, ω) and measures it: (admissible, heading term, clearance).
+/// At most [`MAX_OBSTACLES`] points are considered (the rest are ignored,
+/// as in [`plan`]).
 ///
 /// Distances are in µm with 32×32→64 multiplies and no division in the
 /// inner loop (a 64-bit division is a library call on the Cortex-M4). For
@@ -156,6 +158,34 @@ pub fn evaluate(
     w_mrad_s: i32,
     goal: PointMm,
     obstacles: &[PointMm],
+) -> Sample {
+    let (obs_um, n) = to_um(obstacles);
+    evaluate_um(p, v_mm_s, w_mrad_s, goal, obs_um.get(..n).unwrap_or(&[]))
+}
+
+/// The first [`MAX_OBSTACLES`] points in µm, clamped to ±2 km (so that
+/// they fit in i32), and how many there are.
+fn to_um(obstacles: &[PointMm]) -> ([(i32, i32); MAX_OBSTACLES], usize) {
+    let mut obs_um = [(0i32, 0i32); MAX_OBSTACLES];
+    let mut n = 0;
+    for (o, &(ox, oy)) in obs_um.iter_mut().zip(obstacles) {
+        *o = (
+            ox.clamp(-2_000_000, 2_000_000) * 1000,
+            oy.clamp(-2_000_000, 2_000_000) * 1000,
+        );
+        n += 1;
+    }
+    (obs_um, n)
+}
+
+/// [`evaluate`] on obstacles already in µm (clamped to ±2 km), so that a
+/// cycle converts them once, not once per sample and step.
+fn evaluate_um(
+    p: &DwaParams,
+    v_mm_s: i32,
+    w_mrad_s: i32,
+    goal: PointMm,
+    obs_um: &[(i32, i32)],
 ) -> Sample {
     let steps = (p.horizon_ms / p.step_ms.max(1)).max(1);
     let (mut x_um, mut y_um, mut th_urad) = (0i64, 0i64, 0i64);
@@ -180,16 +210,11 @@ pub fn evaluate(
             x_um.clamp(-(1 << 30), 1 << 30) as i32,
             y_um.clamp(-(1 << 30), 1 << 30) as i32,
         );
-        for &(ox, oy) in obstacles {
-            let dx = (ox.clamp(-2_000_000, 2_000_000) * 1000).saturating_sub(xi) as i64;
-            let dy = (oy.clamp(-2_000_000, 2_000_000) * 1000).saturating_sub(yi) as i64;
-            let d2 = dx * dx + dy * dy; // µm²
-            if d2 < min_d2 {
-                min_d2 = d2;
-            }
-            if d2 <= r2 && hit_at_um.is_none() {
-                hit_at_um = Some(travelled_um);
-            }
+        let step_min = nearest_d2(obs_um, xi, yi);
+        min_d2 = min_d2.min(step_min);
+        // Touching at this step is the step's nearest point within r.
+        if step_min <= r2 && hit_at_um.is_none() {
+            hit_at_um = Some(travelled_um);
         }
     }
     // Clearance beyond the radius, mm (capped).
@@ -230,6 +255,20 @@ pub fn evaluate(
     }
 }
 
+/// The smallest squared distance (µm²) from (x, y) µm to the obstacles;
+/// `i64::MAX` for none. The hot loop of a cycle (samples × steps ×
+/// points): a saturating subtract and a multiply-accumulate per axis.
+#[inline]
+fn nearest_d2(obs_um: &[(i32, i32)], x_um: i32, y_um: i32) -> i64 {
+    let mut best = i64::MAX;
+    for &(ox, oy) in obs_um {
+        let dx = ox.saturating_sub(x_um) as i64;
+        let dy = oy.saturating_sub(y_um) as i64;
+        best = best.min(dx * dx + dy * dy);
+    }
+    best
+}
+
 /// One DWA cycle from the current velocities toward `goal` (robot frame).
 pub fn plan(
     p: &DwaParams,
@@ -241,15 +280,14 @@ pub fn plan(
     let (vs, ws) = window(p, v_mm_s, w_mrad_s);
     let mut samples = [Sample::default(); V_SAMPLES * W_SAMPLES];
     let (mut h_max, mut c_max, mut v_max) = (0i64, 0i64, 0i64);
-    let obstacles = obstacles
-        .get(..obstacles.len().min(MAX_OBSTACLES))
-        .unwrap_or(&[]);
+    let (obs_um, n) = to_um(obstacles);
+    let obs_um = obs_um.get(..n).unwrap_or(&[]);
     for (k, slot) in samples.iter_mut().enumerate() {
         let (v, w) = (
             vs.get(k / W_SAMPLES).copied().unwrap_or(0),
             ws.get(k % W_SAMPLES).copied().unwrap_or(0),
         );
-        *slot = evaluate(p, v, w, goal, obstacles);
+        *slot = evaluate_um(p, v, w, goal, obs_um);
         if slot.ok {
             h_max = h_max.max(slot.heading_mrad as i64);
             c_max = c_max.max(slot.clearance_mm as i64);
@@ -321,3 +359,18 @@ pub const RECORDED_GOAL: PointMm = (3000, 500);
 pub const RECORDED_VELOCITY: (i32, i32) = (300, 0);
 /// The command the recorded situation gives (v mm/s, ω mrad/s).
 pub const RECORDED_COMMAND: (i32, i32) = (250, 80);
+
+/// The recorded situation at full capacity ([`MAX_OBSTACLES`] points, as
+/// many as the mission offers): [`RECORDED_OBSTACLES`] and a second wall
+/// 0.9 m to the left, a point every 100 mm from 1 m behind. The emulated
+/// run measures the cycle's worst case on it.
+pub fn recorded_full() -> [PointMm; MAX_OBSTACLES] {
+    core::array::from_fn(|i| {
+        RECORDED_OBSTACLES.get(i).copied().unwrap_or_else(|| {
+            let k = i.saturating_sub(RECORDED_OBSTACLES.len()) as i32;
+            (-1000 + 100 * k, 900)
+        })
+    })
+}
+/// The command [`recorded_full`] gives (v mm/s, ω mrad/s).
+pub const RECORDED_FULL_COMMAND: (i32, i32) = (250, 80);
