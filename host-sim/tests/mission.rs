@@ -307,3 +307,95 @@ fn the_button_sends_the_robot_home() {
     );
     assert!(next.at_us <= 120_200_000, "{next:?}");
 }
+
+/// LD06 bytes of two revolutions in a 3 m square room seen from its
+/// centre (36 frames of 10° a revolution).
+fn square_room_revolutions() -> Vec<u8> {
+    use robovac::robot::lidar::ld06::encode;
+    let mut bytes = Vec::new();
+    for rev in 0..3u32 {
+        for k in 0..36u32 {
+            let start = (k * 1000) as u16;
+            let pts: [(u16, u8); 12] = core::array::from_fn(|i| {
+                let a = (k as f64 * 10.0 + i as f64 * 9.17 / 11.0).to_radians();
+                let m = a.sin().abs().max(a.cos().abs());
+                ((1500.0 / m) as u16, 200)
+            });
+            bytes.extend(encode(
+                3600,
+                start,
+                start + 917,
+                (rev * 100 + k) as u16,
+                &pts,
+            ));
+        }
+    }
+    bytes
+}
+
+/// The robot image stands at the dock until its button is pressed, with
+/// the lidar spinning. Those revolutions must not enter the map: before
+/// `begin` the executive does not know where the robot is (its odometry
+/// says the map's corner), so they would draw walls that are not there.
+#[test]
+fn lidar_before_the_mission_begins_leaves_the_map_alone() {
+    use host_sim::run::parts::FwHostParts;
+    use robovac::mission::{Mission, MissionConfig};
+    use robovac::robot::lidar_map::{CellState, LidarMount};
+    use robovac::robot::odometry::{DriveGeometry, Pose};
+    use robovac::robot::wheel_control::WheelGains;
+    let geometry = DriveGeometry {
+        ticks_per_rev: 1000,
+        wheel_diameter_um: 72_000,
+        wheelbase_um: 235_000,
+    };
+    let gains = WheelGains {
+        kff_q8: 0,
+        kp_q8: 0,
+        ki_q8: 0,
+        max_duty_pm: 0,
+        stall_duty_pm: 0,
+        stall_ms: 0,
+    };
+    let cfg = MissionConfig::new(
+        MapMode::Unknown,
+        geometry,
+        gains,
+        LidarMount::ld06_centred(false),
+    );
+    let mut m = Box::new(Mission::new(cfg));
+    let mut fp = FwHostParts::new(PlannerKind::BOha);
+    fp.map.reset(240, 240, 50).unwrap();
+    let bytes = square_room_revolutions();
+    m.feed_lidar(&mut fp.parts(), &bytes, 1_000_000);
+    let known = |fp: &FwHostParts| {
+        (0..240)
+            .flat_map(|y| (0..240).map(move |x| (x, y)))
+            .filter(|&(x, y)| fp.map.state(x, y) != CellState::Unknown)
+            .count()
+    };
+    assert_eq!(known(&fp), 0, "revolutions before begin drew on the map");
+    assert_eq!(m.counters().scans, 0);
+    assert_eq!(
+        m.parser_stats().frames,
+        108,
+        "the parser still reads the frames"
+    );
+    // After begin, at the map's centre, the same bytes map the room.
+    let dock = Pose {
+        x_mm: 6000,
+        y_mm: 6000,
+        theta_mrad: 0,
+    };
+    m.begin(&mut fp.parts(), dock);
+    m.feed_lidar(&mut fp.parts(), &bytes, 2_000_000);
+    assert!(m.counters().scans >= 2);
+    let cell = |x_mm: i32, y_mm: i32| {
+        let (cx, cy) = fp.map.cell_of(x_mm, y_mm);
+        fp.map.state(cx, cy)
+    };
+    assert_eq!(cell(7000, 6000), CellState::Free);
+    assert_eq!(cell(7510, 6000), CellState::Occupied);
+    // Nothing near the corner where odometry stood before begin.
+    assert_eq!(cell(1000, 1000), CellState::Unknown);
+}

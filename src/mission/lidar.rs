@@ -1,9 +1,10 @@
 //! The lidar event: bytes into frames, hits into the ring ([`HitRing`]:
 //! the last [`super::RING`] points, each tagged with whether the map
 //! explains it), revolutions matched against the map ([`super::locate`])
-//! and then into the evidence map.
+//! and then into the evidence map. Before the mission begins, frames are
+//! parsed and go no further.
 
-use super::{MapMode, Mission};
+use super::{MapMode, Mission, Phase};
 use crate::localize::ScanMatcher;
 use crate::nav::geometry::explained;
 use crate::robot::lidar::LidarProtocol;
@@ -61,6 +62,13 @@ impl Mission {
                 continue;
             };
             self.lidar.last_frame_us = now_us;
+            if self.phase == Phase::Idle {
+                // Before `begin` (the robot image waits at the dock for
+                // its button) the pose is not yet known: odometry says
+                // the map's corner. The frames are parsed and counted,
+                // and go no further.
+                continue;
+            }
             let ring = &mut self.lidar.ring;
             let known = &*map;
             beams(&pose, &self.cfg.mount, &frame, 0, |_, _, hx, hy, hit| {
