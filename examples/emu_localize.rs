@@ -27,6 +27,7 @@ mod run {
     use defmt_semihosting as _;
     use robovac::localize::{fusion, matcher_words, Fusion, PoseU, ScanMatcher};
     use robovac::robot::lidar_map::{evidence_bytes, CellState, EvidenceMap};
+    use robovac::Grid;
     use stm32f4xx_hal as _;
 
     const MAP: &str = include_str!("../maps/flat/home.txt");
@@ -35,6 +36,10 @@ mod run {
     const W: usize = 192;
     const H: usize = 144;
     const MW: usize = matcher_words(W, H);
+    /// Bitset words of the fine configuration space over the prior.
+    const FW: usize = (W * H).div_ceil(32);
+    /// The mission's clearance: the robot's radius and its margin, mm.
+    const CLEARANCE_MM: u32 = 175;
 
     /// The flat into the evidence map, each 10 cm cell as 2 × 2 cells.
     fn load_map(map: &mut EvidenceMap<{ evidence_bytes(W * H) }>) {
@@ -100,10 +105,21 @@ mod run {
         (d, dt / 1000)
     }
 
+    /// The fine configuration space the mission builds on the prior (a
+    /// call of its own, so its count does not move with this harness).
+    #[inline(never)]
+    fn build_fine(map: &EvidenceMap<{ evidence_bytes(W * H) }>, fine: &mut Grid<FW>) -> usize {
+        if robovac::nav::cspace::build_fine(map, fine, CLEARANCE_MM, false).is_err() {
+            fail("fine configuration space");
+        }
+        fine.cells() - fine.free_cells()
+    }
+
     fn report(
         meter: &Meter,
         map: &mut EvidenceMap<{ evidence_bytes(W * H) }>,
         m: &mut ScanMatcher<MW>,
+        fine: &mut Grid<FW>,
     ) {
         let ((), insn) = meter.measure(|| load_map(map));
         defmt::println!(
@@ -115,6 +131,13 @@ mod run {
             fail("coarse levels");
         }
         defmt::println!("localize: coarse levels built in {} instructions", insn);
+        let (blocked, insn) = meter.measure(|| build_fine(map, fine));
+        defmt::println!(
+            "cspace: fine configuration space 192x144 ({} mm clearance, {} cells blocked) built in {} instructions",
+            CLEARANCE_MM,
+            blocked,
+            insn
+        );
         let mut pts = [(0i32, 0i32); 512];
         let (truth, n) = load_scan(&mut pts);
         let pts = pts.get(..n).unwrap_or(&[]);
@@ -154,8 +177,9 @@ mod run {
     fn main() -> ! {
         static mut MAP_EV: EvidenceMap<{ evidence_bytes(W * H) }> = EvidenceMap::new();
         static mut MATCHER: ScanMatcher<MW> = ScanMatcher::new();
+        static mut FINE: Grid<FW> = Grid::new();
         let meter = common::start_meter();
-        report(&meter, MAP_EV, MATCHER);
+        report(&meter, MAP_EV, MATCHER, FINE);
         defmt::println!(
             "localize memory: matcher {} bytes here, {} bytes for a 12x12 m home at 5 cm (asserted <= 16 KiB); evidence map {} bytes here",
             core::mem::size_of::<ScanMatcher<MW>>(),

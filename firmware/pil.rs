@@ -149,10 +149,10 @@ impl Tally {
     /// Counts a step that held the executive past the reflex's hold
     /// while the robot was driving (`lidar`: a lidar event, else a plan
     /// step): on the robot, control would brake for the rest of it.
-    fn note_hold(&mut self, insn: u64, lidar: bool) {
+    fn note_hold(&mut self, insn: u64, lidar: bool) -> bool {
         let hold = Reflex::hold_instructions(CLOCK_HZ);
         if !self.driving || insn <= hold {
-            return;
+            return false;
         }
         let w = &mut self.worst;
         if lidar {
@@ -161,6 +161,7 @@ impl Tally {
             w.plan_over_hold += 1;
         }
         w.braked_insn += insn - hold;
+        true
     }
 }
 
@@ -177,7 +178,13 @@ fn period<P: MissionParts>(
     let ms = t.t_us / 1000;
     let n = link.lidar_bytes(t.lidar_bytes as usize, bytes);
     let (_, c) = meter.measure(|| m.feed_lidar(parts, bytes.get(..n).unwrap_or(&[]), t.t_us));
-    tally.note_hold(c, true);
+    if tally.note_hold(c, true) {
+        defmt::info!(
+            "t {} ms: lidar event of {} instructions held past the hold",
+            ms,
+            c
+        );
+    }
     tally.worst.total_insn += c;
     if c > tally.worst.lidar {
         tally.worst.lidar = c;
@@ -189,8 +196,11 @@ fn period<P: MissionParts>(
         tally.worst.control = c;
         defmt::info!("t {} ms: worst control tick {} instructions", ms, c);
     }
+    let (before, state) = (m.counters(), m.state());
     let (_, c) = meter.measure(|| m.plan(parts, t.t_us));
-    tally.note_hold(c, false);
+    if tally.note_hold(c, false) {
+        log_held_plan(ms, c, state, &before, m, parts);
+    }
     tally.worst.total_insn += c;
     tally.driving = matches!(cmd, MotorCmd::Duty(l, r) if l != 0 || r != 0);
     if c > tally.worst.plan {
@@ -211,6 +221,31 @@ fn period<P: MissionParts>(
         avoidance_events: m.counters().avoidance_events,
         finished: m.finished(),
     }
+}
+
+/// A plan step that held the executive past the reflex's hold while the
+/// robot drove, with what it did (for finding what to bound next).
+fn log_held_plan<P: MissionParts>(
+    ms: u64,
+    insn: u64,
+    state: robovac::mission::State,
+    before: &robovac::mission::Counters,
+    m: &Mission,
+    parts: &P,
+) {
+    let after = m.counters();
+    defmt::info!(
+        "t {} ms: plan step of {} instructions held past the hold ({} -> {}): detours +{}, routes +{}, replans +{}, avoidances +{}, planner nodes {}",
+        ms,
+        insn,
+        defmt::Debug2Format(&state),
+        defmt::Debug2Format(&m.state()),
+        after.detours.wrapping_sub(before.detours),
+        after.routes.wrapping_sub(before.routes),
+        after.replans.wrapping_sub(before.replans),
+        after.avoidance_events.wrapping_sub(before.avoidance_events),
+        parts.planner_view().last_step_nodes
+    );
 }
 
 /// The end-of-mission report.

@@ -264,6 +264,18 @@ impl<const NW: usize> Grid<NW> {
         self.set(Layer::Obstacle, x, y, blocked)
     }
 
+    /// Marks cells `x0..=x1` of row `y` as obstacles, clipped to the map
+    /// (a word at a time: the fine configuration space's stamping).
+    pub fn block_run(&mut self, y: i32, x0: i32, x1: i32) {
+        let (x0, x1) = (x0.max(0), x1.min(self.width as i32 - 1));
+        if y < 0 || y >= self.height as i32 || x0 > x1 {
+            return;
+        }
+        let row = y as usize * self.width as usize;
+        self.obstacle
+            .set_range(row + x0 as usize, row + x1 as usize + 1);
+    }
+
     /// Number of free (non-obstacle) cells on the map.
     pub fn free_cells(&self) -> usize {
         self.cells() - self.obstacle.count_prefix(self.cells())

@@ -56,6 +56,24 @@ impl<const NW: usize> Bits<NW> {
         }
     }
 
+    /// Sets bits `lo..hi` (a word at a time). Returns `false` (and changes
+    /// nothing) when the range is empty or reaches beyond the capacity.
+    pub fn set_range(&mut self, lo: usize, hi: usize) -> bool {
+        if lo >= hi || hi > Self::CAPACITY {
+            return false;
+        }
+        let (first, last) = (lo >> 5, (hi - 1) >> 5);
+        for k in first..=last {
+            let from = if k == first { lo & 31 } else { 0 };
+            let to = if k == last { ((hi - 1) & 31) + 1 } else { 32 };
+            let mask = (u32::MAX >> (32 - (to - from))) << from;
+            if let Some(w) = self.words.get_mut(k) {
+                *w |= mask;
+            }
+        }
+        true
+    }
+
     /// Clears the first `n` bits (rounded up to whole words), leaving the
     /// rest as they were. Searches use this to reset only the part of the
     /// set that the current map occupies.

@@ -212,11 +212,28 @@ pub fn coarse_box_of(res_mm: u32, cell_mm: u32, radius_mm: u32, fine: CellBox) -
     (lo(fine.0), lo(fine.1), hi(fine.2), hi(fine.3))
 }
 
+/// Largest stamp reach, in cells, of [`build_fine`] (3.1 m at 5 cm).
+pub const MAX_STAMP_REACH: usize = 63;
+
 /// Builds the fine configuration space on the evidence map's own cells:
 /// `fine` gets the map's size, and a cell is blocked when the robot
 /// (`radius_mm`, margin included) centred on it overlaps a blocking
-/// evidence cell. Work: blocking cells × (2·radius/res + 3)², by stamping
-/// each blocking cell's neighbourhood.
+/// evidence cell.
+///
+/// Each blocking cell stamps its neighbourhood, one run of bits a row: the
+/// stamp (the cell's square grown by the radius, sampled at cell centres)
+/// is the same for every cell, so its half-widths are worked out once.
+///
+/// A cell inside the map whose four neighbours all block (inside a thick
+/// wall) blocks only itself: a free point within the radius of its square
+/// is within the radius of a blocking cell with a free neighbour. (Walk
+/// from the nearest point of the square to the free point: the last
+/// blocking cell passed is left through an edge, to a free neighbour, or
+/// through a corner, whose two other cells then border the free diagonal
+/// cell; either way a stamping cell's square is no farther.) Work:
+/// blocking cells with a free neighbour × (2·reach + 1) row runs, where
+/// reach = radius/res + 2. A reach beyond [`MAX_STAMP_REACH`] is refused
+/// as [`GridError::TooLarge`].
 pub fn build_fine<const EV: usize, const GW: usize>(
     map: &EvidenceMap<EV>,
     fine: &mut Grid<GW>,
@@ -226,27 +243,58 @@ pub fn build_fine<const EV: usize, const GW: usize>(
     let (w, h) = (map.width() as i32, map.height() as i32);
     fine.reset(w as u32, h as u32)?;
     let res = map.res_mm().max(1) as i64;
-    let r = radius_mm as i64;
-    let reach = (r / res + 2) as i32;
-    let r2 = r * r;
+    let Some(half) = stamp_half_widths(res, radius_mm as i64) else {
+        return Err(GridError::TooLarge {
+            width: w as u32,
+            height: h as u32,
+            capacity: 0,
+        });
+    };
+    let reach = (radius_mm as i64 / res + 2) as i32;
+    let inner_skip = radius_mm > 0;
+    let blocks = |x: i32, y: i32| cell_blocks(map, x, y, unknown_blocks);
     // The map's edge is a wall: stamp a ring of virtual cells around it.
     for cy in -1..=h {
         for cx in -1..=w {
             let inside = cx >= 0 && cy >= 0 && cx < w && cy < h;
-            if inside && !cell_blocks(map, cx, cy, unknown_blocks) {
+            if inside && !blocks(cx, cy) {
                 continue;
             }
-            for fy in (cy - reach).max(0)..=(cy + reach).min(h - 1) {
-                for fx in (cx - reach).max(0)..=(cx + reach).min(w - 1) {
-                    let (px, py) = (fx as i64 * res + res / 2, fy as i64 * res + res / 2);
-                    if square_dist2(px, py, cx as i64, cy as i64, res) < r2 {
-                        fine.set_obstacle(fx, fy, true)?;
-                    }
+            let buried = blocks(cx - 1, cy) && blocks(cx + 1, cy);
+            if inside && inner_skip && buried && blocks(cx, cy - 1) && blocks(cx, cy + 1) {
+                fine.block_run(cy, cx, cx);
+                continue;
+            }
+            for dy in -reach..=reach {
+                let hw = half.get(dy.unsigned_abs() as usize).copied().unwrap_or(-1);
+                if hw >= 0 {
+                    fine.block_run(cy + dy, cx - hw, cx + hw);
                 }
             }
         }
     }
     Ok(())
+}
+
+/// The stamp's half-width in cells for each row offset 0..=reach (−1: the
+/// row is not reached): the largest k with the centre of cell (k, dy)
+/// nearer than `r` to the closed square of cell (0, 0). `None` when the
+/// reach exceeds [`MAX_STAMP_REACH`].
+fn stamp_half_widths(res: i64, r: i64) -> Option<[i32; MAX_STAMP_REACH + 1]> {
+    let reach = r / res + 2;
+    if reach < 0 || reach > MAX_STAMP_REACH as i64 {
+        return None;
+    }
+    let mut half = [-1i32; MAX_STAMP_REACH + 1];
+    for (dy, slot) in half.iter_mut().enumerate().take(reach as usize + 1) {
+        let py = dy as i64 * res + res / 2;
+        for k in 0..=reach {
+            if square_dist2(k * res + res / 2, py, 0, 0, res) < r * r {
+                *slot = k as i32;
+            }
+        }
+    }
+    Some(half)
 }
 
 /// World mm of the centre of fine cell (cx, cy).

@@ -1,0 +1,117 @@
+//! The fine configuration space (`robovac::nav::cspace::build_fine`)
+//! against the plain definition: a cell is blocked when a disc of the
+//! radius at its centre overlaps a blocking evidence cell (or the map's
+//! edge). Random maps of walls, blobs and unknown cells, several radii and
+//! resolutions, both unknown policies.
+
+use proptest::prelude::*;
+use robovac::nav::cspace::{build_fine, cell_blocks, square_dist2, MAX_STAMP_REACH};
+use robovac::robot::lidar_map::{CellState, EvidenceMap};
+use robovac::Grid;
+
+type Map = EvidenceMap<{ 64 * 64 }>;
+type Fine = Grid<{ 64 * 64 / 32 }>;
+
+/// The definition, cell by cell (the former stamping loop's result).
+fn reference(map: &Map, r: i64, unknown_blocks: bool, x: i32, y: i32) -> bool {
+    let res = map.res_mm() as i64;
+    let (px, py) = (x as i64 * res + res / 2, y as i64 * res + res / 2);
+    let reach = (r / res + 2) as i32;
+    (y - reach..=y + reach).any(|cy| {
+        (x - reach..=x + reach).any(|cx| {
+            let ring =
+                cx >= -1 && cy >= -1 && cx <= map.width() as i32 && cy <= map.height() as i32;
+            ring && cell_blocks(map, cx, cy, unknown_blocks)
+                && square_dist2(px, py, cx as i64, cy as i64, res) < r * r
+        })
+    })
+}
+
+fn random_map(w: u32, h: u32, res: u32, cells: &[(u8, u8, u8)]) -> Map {
+    random_map_with(w, h, res, cells, &[])
+}
+
+/// Blobs and wall pieces from `cells`, and solid blocks (thick walls,
+/// furniture) from `rects` (x, y, width, height, unknown?).
+fn random_map_with(
+    w: u32,
+    h: u32,
+    res: u32,
+    cells: &[(u8, u8, u8)],
+    rects: &[(u8, u8, u8, u8, bool)],
+) -> Map {
+    let mut map = Map::new();
+    map.reset(w, h, res).unwrap();
+    for y in 0..h as i32 {
+        for x in 0..w as i32 {
+            map.set_state(x, y, CellState::Free);
+        }
+    }
+    for &(x, y, kind) in cells {
+        let (x, y) = (x as i32 % w as i32, y as i32 % h as i32);
+        let st = if kind % 3 == 0 {
+            CellState::Unknown
+        } else {
+            CellState::Occupied
+        };
+        // Blobs and wall pieces: a 1-3 cell run.
+        for k in 0..=(kind as i32 % 3) {
+            let (cx, cy) = if kind % 2 == 0 {
+                (x + k, y)
+            } else {
+                (x, y + k)
+            };
+            if cx < w as i32 && cy < h as i32 {
+                map.set_state(cx, cy, st);
+            }
+        }
+    }
+    for &(x, y, rw, rh, unknown) in rects {
+        let st = if unknown {
+            CellState::Unknown
+        } else {
+            CellState::Occupied
+        };
+        for cy in y as i32..(y as i32 + rh as i32).min(h as i32) {
+            for cx in x as i32..(x as i32 + rw as i32).min(w as i32) {
+                map.set_state(cx, cy, st);
+            }
+        }
+    }
+    map
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+    #[test]
+    fn fine_space_matches_the_definition(
+        w in 1u32..64, h in 1u32..64,
+        res in prop::sample::select(vec![20u32, 50, 100]),
+        r in 0u32..400,
+        unknown_blocks: bool,
+        cells in prop::collection::vec((0u8..64, 0u8..64, any::<u8>()), 0..120),
+        rects in prop::collection::vec((0u8..64, 0u8..64, 1u8..24, 1u8..24, any::<bool>()), 0..6),
+    ) {
+        let map = random_map_with(w, h, res, &cells, &rects);
+        let mut fine = Fine::new();
+        build_fine(&map, &mut fine, r, unknown_blocks).unwrap();
+        for y in 0..h as i32 {
+            for x in 0..w as i32 {
+                prop_assert_eq!(
+                    fine.is_blocked(x, y),
+                    reference(&map, r as i64, unknown_blocks, x, y),
+                    "cell ({}, {}), radius {} mm, {} mm cells", x, y, r, res
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn a_reach_beyond_the_stamp_is_refused() {
+    let map = random_map(8, 8, 10, &[]);
+    let mut fine = Fine::new();
+    let r = (MAX_STAMP_REACH as u32 - 2) * 10;
+    assert!(build_fine(&map, &mut fine, r, false).is_ok());
+    assert!(build_fine(&map, &mut fine, r + 10, false).is_err());
+}
