@@ -50,8 +50,8 @@
 //! battery, worst task costs in cycles and the stack's high-water mark.
 
 use super::board::{
-    battery::Battery, clock, encoders, lidar_dma::LidarDma, motors::Motors, ticker, watchdog,
-    wiring,
+    battery::Battery, bumper::Switches, clock, encoders, lidar_dma::LidarDma, motors::Motors,
+    ticker, watchdog, wiring,
 };
 use super::status::{self, STATUS_US};
 use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
@@ -118,7 +118,7 @@ mod app {
     use robovac::coverage::PlannerKind;
     use robovac::mission::MotorCmd;
     use robovac::robot::debounce::Debounce;
-    use robovac::robot::hal::{ByteSource, MotorDriver, QuadratureEncoder};
+    use robovac::robot::hal::{BumperSwitches, ByteSource, MotorDriver, QuadratureEncoder};
     use robovac::robot::odometry::Pose;
     use robovac::Cell;
     use stm32f4xx_hal::gpio::GpioExt;
@@ -138,6 +138,7 @@ mod app {
         watchdog: watchdog::Watchdog,
         battery: Battery,
         button: wiring::ButtonPin,
+        bumper: Switches,
     }
 
     #[init(local = [
@@ -201,6 +202,10 @@ mod app {
         super::super::board::serial_log::start(gpioa.pa2.into_alternate());
         let battery = Battery::new(dp.ADC1, gpioa.pa4.into_analog());
         let button = gpioc.pc13.into_input();
+        let bumper = Switches::new(
+            gpioc.pc0.into_pull_up_input(),
+            gpioc.pc1.into_pull_up_input(),
+        );
         let lidar = LidarDma::new(gpioa.pa10.into_alternate());
 
         let l = cx.local;
@@ -236,13 +241,14 @@ mod app {
                 watchdog,
                 battery,
                 button,
+                bumper,
             },
         )
     }
 
     /// The control period: encoders in, motors out, watchdog fed; the
     /// reflex when the executive is held (also run when pended as owed).
-    #[task(binds = TIM5, priority = 3, local = [ticker, motors, left, right, watchdog, button, reflex: Reflex = Reflex::new(), debounce: Debounce = Debounce::new()])]
+    #[task(binds = TIM5, priority = 3, local = [ticker, motors, left, right, watchdog, button, bumper, reflex: Reflex = Reflex::new(), debounce: Debounce = Debounce::new()])]
     fn control(cx: control::Context) {
         let due = cx.local.ticker.on_interrupt();
         let owed = CONTROL_OWED.swap(false, Ordering::Relaxed);
@@ -256,10 +262,14 @@ mod app {
             BUTTON.store(true, Ordering::Relaxed);
         }
         let enc = (cx.local.left.count(), cx.local.right.count());
+        let bumper = cx.local.bumper.read_bumper();
         // Inside the try-lock: control preempted nothing that holds it.
-        let ran = EXEC
-            .try_lock()
-            .and_then(|mut g| g.as_mut().map(|e| e.mission.control(now, enc)));
+        let ran = EXEC.try_lock().and_then(|mut g| {
+            g.as_mut().map(|e| {
+                e.mission.set_bumper(bumper);
+                e.mission.control(now, enc)
+            })
+        });
         let (cmd, feed) = match ran {
             Some(cmd) => {
                 cx.local.reflex.ran(now, cmd);

@@ -190,6 +190,7 @@ fn period<P: MissionParts>(
         tally.worst.lidar = c;
         defmt::info!("t {} ms: worst lidar event {} instructions", ms, c);
     }
+    m.set_bumper(t.bumper);
     let (cmd, c) = meter.measure(|| m.control(t.t_us, t.enc));
     tally.worst.total_insn += c;
     if c > tally.worst.control {

@@ -78,6 +78,10 @@ fn sample() -> Vec<Down> {
         Down::Tick(Tick {
             t_us: 10_000,
             enc: (65_535, 3),
+            bumper: robovac::robot::hal::Bumper {
+                left: true,
+                right: false,
+            },
             lidar_bytes: 94,
         }),
         Down::End,

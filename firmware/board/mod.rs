@@ -4,6 +4,8 @@
 #[cfg(not(feature = "pil"))]
 pub mod battery;
 #[cfg(not(feature = "pil"))]
+pub mod bumper;
+#[cfg(not(feature = "pil"))]
 pub mod clock;
 #[cfg(not(feature = "pil"))]
 pub mod encoders;

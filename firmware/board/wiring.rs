@@ -19,6 +19,8 @@
 //! | battery (divider 1:4) | PA4 (A2) | ADC1 IN4 |
 //! | defmt over serial | PA2 | USART2 TX (the ST-LINK virtual COM port) |
 //! | start / home button | PC13 (the Nucleo's blue B1) | GPIO input, low = pressed |
+//! | bumper, left switch | PC0 (A5) | GPIO input, pull-up, closed to GND = pressed |
+//! | bumper, right switch | PC1 (A4) | GPIO input, pull-up, closed to GND = pressed |
 //! | control clock | — | TIM5, 1 MHz, compare every 10 ms |
 //!
 //! Power: the LD06 and the TB6612's VM from the battery side (5 V for the
@@ -99,6 +101,13 @@ pub const LIDAR_BAUD: u32 = 230_400;
 pub type ButtonPin = gpioc::PC13<Input>;
 /// Whether the button reads low when pressed.
 pub const BUTTON_ACTIVE_LOW: bool = true;
+
+/// The bumper's left microswitch: PC0 (A5), pulled up, closing to ground.
+pub type BumperLeftPin = gpioc::PC0<Input>;
+/// The bumper's right microswitch: PC1 (A4), likewise.
+pub type BumperRightPin = gpioc::PC1<Input>;
+/// Whether a bumper switch reads low when closed.
+pub const BUMPER_ACTIVE_LOW: bool = true;
 
 /// The battery's ADC pin (PA4 = ADC1 IN4) and channel.
 pub type BatteryPin = gpioa::PA4<Analog>;

@@ -5,7 +5,7 @@
 //! resolutions, both unknown policies.
 
 use proptest::prelude::*;
-use robovac::nav::cspace::{build_fine, cell_blocks, square_dist2, MAX_STAMP_REACH};
+use robovac::nav::cspace::{build_fine, cell_blocks, square_dist2, stamp_cell, MAX_STAMP_REACH};
 use robovac::robot::lidar_map::{CellState, EvidenceMap};
 use robovac::Grid;
 
@@ -114,4 +114,49 @@ fn a_reach_beyond_the_stamp_is_refused() {
     let r = (MAX_STAMP_REACH as u32 - 2) * 10;
     assert!(build_fine(&map, &mut fine, r, false).is_ok());
     assert!(build_fine(&map, &mut fine, r + 10, false).is_err());
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(100))]
+    /// A bump's mark stamped into a built grid ([`stamp_cell`]) gives the
+    /// grid built after the mark: the edge pass keeps its grid and stamps.
+    #[test]
+    fn a_stamped_mark_matches_a_rebuild(
+        w in 4u32..48, h in 4u32..48,
+        r in 0u32..300,
+        cells in prop::collection::vec((0u8..48, 0u8..48, any::<u8>()), 0..60),
+        mark in (0u8..48, 0u8..48),
+    ) {
+        let mut map = random_map(w, h, 50, &cells);
+        let mut stamped = Fine::new();
+        build_fine(&map, &mut stamped, r, false).unwrap();
+        let (mx, my) = (mark.0 as i32 % w as i32, mark.1 as i32 % h as i32);
+        let (x_mm, y_mm) = (mx * 50 + 25, (h as i32 - 1 - my) * 50 + 25);
+        map.mark_contact(x_mm, y_mm);
+        prop_assert_eq!(map.cell_of(x_mm, y_mm), (mx, my));
+        prop_assert!(stamp_cell(&mut stamped, 50, r, (mx, my)));
+        let mut rebuilt = Fine::new();
+        build_fine(&map, &mut rebuilt, r, false).unwrap();
+        for y in 0..h as i32 {
+            for x in 0..w as i32 {
+                prop_assert_eq!(stamped.is_blocked(x, y), rebuilt.is_blocked(x, y), "({}, {})", x, y);
+            }
+        }
+    }
+}
+
+/// A bump's mark is a fixed wall: beams through it (a glass pane lets
+/// them pass) do not wipe it, as they would an ordinary wall's evidence.
+#[test]
+fn a_bump_mark_survives_beams_through_it() {
+    let mut map = random_map(20, 20, 50, &[]);
+    let (x, y) = (525, 525);
+    assert!(map.mark_contact(x, y));
+    assert!(!map.mark_contact(x, y), "marked once");
+    assert!(map.take_changed().is_some());
+    for _ in 0..50 {
+        map.trace(25, 525, 975, 525, true);
+    }
+    let (cx, cy) = map.cell_of(x, y);
+    assert_eq!(map.state(cx, cy), CellState::Occupied);
 }

@@ -61,6 +61,8 @@ pub struct Tick {
     pub t_us: u64,
     /// Raw encoder counts, left and right.
     pub enc: (u16, u16),
+    /// The bumper's switches.
+    pub bumper: crate::robot::hal::Bumper,
     /// Lidar bytes the host sent for this period on the lidar UART: the
     /// firmware takes exactly these before the tick, so the run does not
     /// depend on how the two UARTs interleave.

@@ -290,6 +290,11 @@ pub struct Counters {
     pub lidar_silences: u32,
     /// Wheel stalls.
     pub stalls: u32,
+    /// Bumper contacts while driving (each brakes and backs off).
+    pub bumps: u32,
+    /// Evidence cells marked as walls where the bumper felt something the
+    /// lidar did not see.
+    pub bump_marks: u32,
     /// Planning cells marked blocked after repeated stalls.
     pub blocked_cells: u32,
     /// Sub-paths given up (timeouts, avoidance timeouts, stalls).
@@ -332,6 +337,8 @@ impl Counters {
             dwa_no_admissible: 0,
             lidar_silences: 0,
             stalls: 0,
+            bumps: 0,
+            bump_marks: 0,
             blocked_cells: 0,
             skipped: 0,
             detours: 0,

@@ -19,6 +19,11 @@ use crate::nav::geometry::RobotFrame;
 use crate::nav::guard::{limit_speed, FreeDistance, GuardParams};
 use crate::robot::odometry::Pose;
 
+/// How long the robot backs off (at 100 mm/s) after a bump: 80 mm, which
+/// takes the body clear of the marked spot by more than the planner's
+/// clearance (radius + margin) before the leg is planned again.
+pub const BUMP_BACK_OFF_US: u64 = 800_000;
+
 /// What the sensing half measured, for the acting half.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Sensed {
@@ -144,6 +149,9 @@ impl Mission {
 
     /// The acting half: follower, escape, guard, wheel control.
     pub(super) fn act(&mut self, now_us: u64, s: Sensed) -> MotorCmd {
+        if self.bumped(now_us, &s.pose) {
+            return MotorCmd::Brake;
+        }
         let (v, w) = self.motion(now_us, &s.pose);
         let (v, w) = self.escape(&s.pose, v, w);
         let v = self.guard(now_us, &s.pose, v, w);
@@ -198,6 +206,37 @@ impl Mission {
         }
         let w = (3 * e).clamp(-800, 800);
         (0, if w.abs() < 150 { 150 * e.signum() } else { w })
+    }
+
+    /// The bumper closed while the robot was driving (not already backing
+    /// off): brake this period, back off [`BUMP_BACK_OFF_US`] straight,
+    /// and hand the contact to the planner (which marks the spot when the
+    /// lidar sees nothing there, then plans the leg again).
+    fn bumped(&mut self, now_us: u64, pose: &Pose) -> bool {
+        let driving = matches!(
+            self.phase,
+            Phase::Cover | Phase::Edge | Phase::ReturnSearch | Phase::Return
+        );
+        let backing = matches!(self.activity, Activity::BackOff { .. });
+        if !self.bumper.pressed() || !driving || backing {
+            return false;
+        }
+        self.counters.bumps += 1;
+        let bearing_mrad = self.bumper.bearing_mrad();
+        self.hand_off(
+            now_us,
+            Note::Bumped {
+                at_us: now_us,
+                pose: *pose,
+                bearing_mrad,
+            },
+        );
+        self.drive.wheels.clear_fault();
+        self.activity = Activity::BackOff {
+            until_us: now_us + BUMP_BACK_OFF_US,
+        };
+        self.cmd = (0, 0);
+        true
     }
 
     /// Drives the front sub-path; drops it when done or timed out.
@@ -339,9 +378,19 @@ impl Mission {
     /// body (a person, a chair) is an obstruction to back away from; only
     /// a stall with nothing in sight (a rug's edge, a cable) counts toward
     /// giving the place up.
+    ///
+    /// A stall while already backing off (wedged: something behind, where
+    /// there is no bumper) does not back off again, which would stall
+    /// again forever: the sub-path is given up as stalled and the follower
+    /// turns in place toward the next one, a move that cannot push.
     fn stalled(&mut self, now_us: u64, pose: &Pose) {
         self.drive.wheels.clear_fault();
         self.counters.stalls += 1;
+        if matches!(self.activity, Activity::BackOff { .. }) {
+            self.skip_front(now_us, true);
+            self.cmd = (0, 0);
+            return;
+        }
         let reach = (self.cfg.radius_mm + 60) as i64;
         let touching = self.points().any(|q| {
             let (dx, dy) = ((q.0 - pose.x_mm) as i64, (q.1 - pose.y_mm) as i64);

@@ -60,6 +60,17 @@ pub enum EventKind {
         /// How far it was from the odometry's, mm (Manhattan).
         moved_mm: i32,
     },
+    /// The bumper felt something while driving: the robot backs off and
+    /// plans the leg again.
+    Bumped {
+        /// Where the contact was (on the body's rim), mm.
+        x_mm: i32,
+        /// North, mm.
+        y_mm: i32,
+        /// Evidence cells marked as walls for it (0: the lidar sees what
+        /// was touched, or the spot was marked already).
+        marked: u8,
+    },
 }
 
 /// An event and when it happened.

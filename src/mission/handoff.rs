@@ -15,6 +15,7 @@
 //! leaves its cells for the rescan.
 
 use crate::nav::follow::SubPath;
+use crate::robot::odometry::Pose;
 use heapless::Vec;
 
 /// Notes held between two planning steps.
@@ -33,6 +34,13 @@ pub(super) enum Note {
         cover: bool,
         stalled: bool,
         last_end: Option<(i32, i32)>,
+    },
+    /// The bumper closed at `at_us`, at `pose`, the contact `bearing_mrad`
+    /// from the heading ([`crate::robot::hal::Bumper::bearing_mrad`]).
+    Bumped {
+        at_us: u64,
+        pose: Pose,
+        bearing_mrad: i32,
     },
 }
 

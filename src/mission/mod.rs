@@ -104,6 +104,7 @@ macro_rules! sized_impl {
 }
 
 mod avoid;
+mod bump;
 mod control;
 mod cover;
 mod edge;
@@ -133,6 +134,7 @@ use crate::localize::Fusion;
 use crate::nav::edge::EdgePass;
 use crate::nav::follow::{SubPath, SubPaths};
 use crate::nav::geometry::in_corridor;
+pub use crate::robot::hal::Bumper;
 use crate::robot::lidar::ld06::Ld06;
 use crate::robot::lidar::scan::{Scan, ScanAssembler};
 use crate::robot::lidar::LidarProtocol;
@@ -233,6 +235,8 @@ pub struct Mission {
     subpath_since_us: u64,
     retries: u8,
     guard_block_since: Option<u64>,
+    /// The bumper as last read ([`Mission::set_bumper`]).
+    bumper: Bumper,
     // Planning's own.
     avoid_since_us: u64,
     start: Pose,
@@ -266,6 +270,8 @@ pub struct Mission {
     start_fixed: bool,
     relocated: bool,
     lost_since_us: u64,
+    /// A bump was marked: plan the leg again once the back-off ends.
+    bump_replan: bool,
 }
 
 /// The executive at work on the caller's buffers `P` (the planning side).
@@ -308,6 +314,7 @@ impl Mission {
             subpath_since_us: 0,
             retries: 0,
             guard_block_since: None,
+            bumper: Bumper::RELEASED,
             avoid_since_us: 0,
             start: Pose {
                 x_mm: 0,
@@ -337,6 +344,7 @@ impl Mission {
             start_fixed: false,
             relocated: false,
             lost_since_us: 0,
+            bump_replan: false,
         }
     }
 
@@ -384,6 +392,13 @@ impl Mission {
         };
         self.events.track(now_us, self.state());
         cmd
+    }
+
+    /// The bumper's switches, read just before this control period's
+    /// [`Mission::control`] (or [`Mission::tick`]). A closed switch while
+    /// driving brakes, backs off and has the planner mark the spot.
+    pub fn set_bumper(&mut self, bumper: Bumper) {
+        self.bumper = bumper;
     }
 
     /// True when a planning step is due (and the last control period

@@ -61,6 +61,13 @@ sized_impl!([] {
                 self.replan_leg(now_us, pose);
             }
         }
+        if self.m.bump_replan && self.m.activity == Activity::Follow {
+            // Backed off from a bump: the leg ahead ran into it.
+            self.m.bump_replan = false;
+            if matches!(self.m.phase, Phase::Cover | Phase::Edge | Phase::Return | Phase::ReturnSearch) {
+                self.replan_leg(now_us, pose);
+            }
+        }
         match self.m.phase {
             Phase::SelfTestScan { .. }
             | Phase::SelfTestWheels { .. }

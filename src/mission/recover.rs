@@ -31,6 +31,11 @@ sized_impl!([] {
                     stalled,
                     last_end,
                 } => self.gave_up(seg, cover, stalled, last_end),
+                Note::Bumped {
+                    at_us,
+                    pose,
+                    bearing_mrad,
+                } => self.bumped(at_us, pose, bearing_mrad),
             }
         }
     }

@@ -276,6 +276,31 @@ pub fn build_fine<const EV: usize, const GW: usize>(
     Ok(())
 }
 
+/// Blocks in `fine` what [`build_fine`] blocks for one more blocking
+/// evidence cell (cx, cy) of `res_mm` cells, `radius_mm` as there: a grid
+/// built before the cell turned to wall and stamped then equals one built
+/// after. False (nothing changed) when the reach exceeds
+/// [`MAX_STAMP_REACH`].
+pub fn stamp_cell<const GW: usize>(
+    fine: &mut Grid<GW>,
+    res_mm: u32,
+    radius_mm: u32,
+    (cx, cy): (i32, i32),
+) -> bool {
+    let res = res_mm.max(1) as i64;
+    let Some(half) = stamp_half_widths(res, radius_mm as i64) else {
+        return false;
+    };
+    let reach = (radius_mm as i64 / res + 2) as i32;
+    for dy in -reach..=reach {
+        let hw = half.get(dy.unsigned_abs() as usize).copied().unwrap_or(-1);
+        if hw >= 0 {
+            fine.block_run(cy + dy, cx - hw, cx + hw);
+        }
+    }
+    true
+}
+
 /// The stamp's half-width in cells for each row offset 0..=reach (−1: the
 /// row is not reached): the largest k with the centre of cell (k, dy)
 /// nearer than `r` to the closed square of cell (0, 0). `None` when the

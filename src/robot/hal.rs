@@ -33,3 +33,50 @@ pub trait Clock {
     /// Microseconds since an arbitrary start.
     fn now_us(&mut self) -> u64;
 }
+
+/// The front bumper's two switches, each closing over one half of the
+/// front arc (as on common robot vacuums); a contact dead ahead closes
+/// both. It feels what the lidar cannot see: dark furniture that returns
+/// no echo, a glass pane, a chair's crossbar below the scan plane.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Bumper {
+    /// The left half's switch is closed.
+    pub left: bool,
+    /// The right half's switch is closed.
+    pub right: bool,
+}
+
+impl Bumper {
+    /// Both switches open.
+    pub const RELEASED: Self = Self {
+        left: false,
+        right: false,
+    };
+    /// Bearing of a contact on one half only, from the heading, mrad: the
+    /// middle of that half's arc as far as a switch can tell (about 35°).
+    pub const SIDE_BEARING_MRAD: i32 = 600;
+
+    /// Either switch is closed.
+    pub fn pressed(self) -> bool {
+        self.left || self.right
+    }
+
+    /// Where the contact is, from the heading (mrad, left positive): 0 for
+    /// both switches, ±[`Self::SIDE_BEARING_MRAD`] for one.
+    pub fn bearing_mrad(self) -> i32 {
+        match (self.left, self.right) {
+            (true, false) => Self::SIDE_BEARING_MRAD,
+            (false, true) => -Self::SIDE_BEARING_MRAD,
+            _ => 0,
+        }
+    }
+}
+
+/// The bumper's switches, read each control period.
+pub trait BumperSwitches {
+    /// The switches now (debounced by the switch's own travel: a contact
+    /// holds them closed for many periods).
+    fn read_bumper(&mut self) -> Bumper;
+}

@@ -40,7 +40,8 @@ pub const FREE_LIMIT: i8 = -8;
 pub const OCCUPIED_AT: i8 = 2;
 /// Free at or below.
 pub const FREE_AT: i8 = -1;
-/// A wall of the prior map (known mode, after [`EvidenceMap::freeze_prior`]):
+/// A wall of the prior map (known mode, after [`EvidenceMap::freeze_prior`]),
+/// or a contact the bumper felt ([`EvidenceMap::mark_contact`]):
 /// occupied, and never changed by what the lidar sees, so drift cannot
 /// write itself into the map the robot localises against. What the lidar
 /// adds (people, a moved chair) lives in the other cells' counters, apart
@@ -290,6 +291,28 @@ impl<const B: usize> EvidenceMap<B> {
         }
         self.put(i, n);
         (n >= OCCUPIED_AT) != (c >= OCCUPIED_AT) || (n <= FREE_AT) != (c <= FREE_AT)
+    }
+
+    /// The bumper felt something at world point (x_mm, y_mm) that the lidar
+    /// does not see: its cell becomes a fixed wall ([`PRIOR_WALL`]), noted
+    /// for [`Self::take_changed`], so the configuration space and the plan
+    /// keep the body off it for the rest of the mission. Fixed, because
+    /// what the bumper finds the lidar cannot confirm or clear: beams pass
+    /// through a glass pane and would wipe an ordinary wall's evidence
+    /// within a few revolutions, and the robot would bump it again. True
+    /// when the cell's state changed (it was not a wall already).
+    pub fn mark_contact(&mut self, x_mm: i32, y_mm: i32) -> bool {
+        let (cx, cy) = self.cell_of(x_mm, y_mm);
+        let Some(i) = self.index(cx, cy) else {
+            return false;
+        };
+        let before = self.get(i);
+        if before == PRIOR_WALL {
+            return false;
+        }
+        self.put(i, PRIOR_WALL);
+        self.changed = union_box(self.changed, (cx, cy, cx, cy));
+        before < OCCUPIED_AT
     }
 
     /// Known mode: turns every occupied cell into a [`PRIOR_WALL`], fixed

@@ -36,6 +36,7 @@ fn cmd_demo() -> Result<(), String> {
         firmware_order: false,
         capacity: Default::default(),
         pil: None,
+        bumper: true,
     };
     println!(
         "robovac demo: the firmware's mission executive cleans a 9.6 m × 7.2 m furnished flat"

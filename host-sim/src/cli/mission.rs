@@ -68,6 +68,10 @@ pub struct Args {
     /// Odometry alone: no scan matching (for comparison).
     #[arg(long)]
     pub no_localize: bool,
+    /// The bumper disconnected (for comparison): what the lidar cannot
+    /// see is found only by stalling against it.
+    #[arg(long)]
+    pub no_bumper: bool,
     /// Whose buffers the executive runs in: the host's, or the firmware's
     /// (`fw`: the chip's capacities, so the figures are the robot's).
     #[arg(long, value_enum, default_value_t)]
@@ -111,6 +115,7 @@ pub fn run(a: Args) -> Result<(), String> {
         kidnap,
         home_at,
         no_localize,
+        no_bumper,
         capacity,
         pil,
         pil_elf,
@@ -154,6 +159,7 @@ pub fn run(a: Args) -> Result<(), String> {
         kidnap_s: kidnap,
         home_s: home_at,
         localize: !no_localize,
+        bumper: !no_bumper,
         firmware_order,
         capacity,
         pil: pil.then_some(host_sim::run::pil::PilOptions {

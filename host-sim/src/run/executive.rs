@@ -4,7 +4,7 @@
 //! measurements are the same for both.
 
 use robovac::localize::LocStats;
-use robovac::mission::{Counters, Event, Mission, MissionParts, MotorCmd, State};
+use robovac::mission::{Bumper, Counters, Event, Mission, MissionParts, MotorCmd, State};
 use robovac::robot::lidar::ParserStats;
 use robovac::robot::odometry::Pose;
 
@@ -16,8 +16,14 @@ pub trait Executive {
     /// Starts the mission at the dock's given pose.
     fn begin(&mut self, dock: Pose) -> Result<(), String>;
     /// One control period: the lidar bytes that arrived in it (possibly
-    /// none), the encoders' raw counts; the motor command.
-    fn period(&mut self, t_us: u64, lidar: &[u8], enc: (u16, u16)) -> Result<MotorCmd, String>;
+    /// none), the encoders' raw counts, the bumper; the motor command.
+    fn period(
+        &mut self,
+        t_us: u64,
+        lidar: &[u8],
+        enc: (u16, u16),
+        bumper: Bumper,
+    ) -> Result<MotorCmd, String>;
     /// Bytes of line noise on the link before the next tick (the link's
     /// bad-input test; a native executive has no link: ignored).
     fn link_noise(&mut self, _bytes: &[u8]) -> Result<(), String> {
@@ -69,7 +75,14 @@ impl Executive for Native<'_> {
         Ok(())
     }
 
-    fn period(&mut self, t_us: u64, lidar: &[u8], enc: (u16, u16)) -> Result<MotorCmd, String> {
+    fn period(
+        &mut self,
+        t_us: u64,
+        lidar: &[u8],
+        enc: (u16, u16),
+        bumper: Bumper,
+    ) -> Result<MotorCmd, String> {
+        self.mission.set_bumper(bumper);
         // In the chunks the UART model delivers (as before the sim link).
         for chunk in lidar.chunks(512) {
             self.mission.feed_lidar(self.parts, chunk, t_us);

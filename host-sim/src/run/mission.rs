@@ -9,7 +9,7 @@ use super::executive::{Executive, Native};
 
 use robovac::coverage::PlannerKind;
 use robovac::mission::{MapMode, Mission, MissionConfig, MissionParts, MotorCmd, State};
-use robovac::robot::hal::{ByteSource, MotorDriver};
+use robovac::robot::hal::{BumperSwitches, ByteSource, MotorDriver};
 
 use crate::io::maps::MapData;
 use crate::sim::floor::Floor;
@@ -70,6 +70,10 @@ pub struct MissionOptions {
     /// Run the firmware image in the emulator instead of the core in this
     /// process (processor-in-the-loop; at the firmware's capacity).
     pub pil: Option<super::pil::PilOptions>,
+    /// The twin's bumper reaches the executive (false: disconnected, for
+    /// comparison: the robot then learns of what its lidar cannot see
+    /// only by stalling against it).
+    pub bumper: bool,
 }
 
 /// What a mission measured (its JSON: these fields, plus `sim_speed` and
@@ -93,8 +97,12 @@ pub struct MissionReport {
     /// Swept area counted with multiplicity over the area swept, minus 1:
     /// (distance × cleaning width + body disc) / swept area − 1.
     pub repetition: f64,
-    /// The robot moved into a wall or person.
+    /// The robot moved into a wall or person its lidar could see.
     pub collisions: usize,
+    /// The robot moved into something its lidar cannot see (dark
+    /// furniture, glass): felt by the bumper. Left out when 0.
+    #[serde(skip_serializing_if = "is_zero_usize")]
+    pub bumper_contacts: usize,
     /// A person walked into the robot.
     pub person_contacts: usize,
     /// Smallest true gap between the body and a wall or person, m.
@@ -365,7 +373,12 @@ fn control_period(
         mission.link_noise(&noise)?;
     }
     let enc = sim.read_encoders();
-    match mission.period(sim.t_us, &lidar, enc)? {
+    let bumper = if opts.bumper {
+        sim.read_bumper()
+    } else {
+        robovac::mission::Bumper::RELEASED
+    };
+    match mission.period(sim.t_us, &lidar, enc, bumper)? {
         MotorCmd::Duty(a, b) => sim.set_duty(a, b),
         MotorCmd::Brake => sim.brake(),
     }
@@ -475,7 +488,12 @@ fn finish_report(
     rep.distance_m = sim.distance_m;
     let swept = floor.swept_area_m2().max(1e-9);
     rep.repetition = (rep.distance_m * cfg.diameter_m + std::f64::consts::PI * r * r) / swept - 1.0;
-    rep.collisions = sim.collisions.iter().filter(|c| !c.by_person).count();
+    rep.collisions = sim
+        .collisions
+        .iter()
+        .filter(|c| !c.by_person && !c.unseen)
+        .count();
+    rep.bumper_contacts = sim.collisions.iter().filter(|c| c.unseen).count();
     rep.person_contacts = sim.collisions.iter().filter(|c| c.by_person).count();
     rep.avoidance_events = c.avoidance_events;
     rep.sim_time_s = sim.t_us as f64 * 1e-6;
@@ -538,9 +556,19 @@ struct CountersJson {
     /// capacity; left out when 0).
     #[serde(skip_serializing_if = "is_zero")]
     routes: u32,
+    /// Bumper contacts the executive handled (left out when 0).
+    #[serde(skip_serializing_if = "is_zero")]
+    bumps: u32,
+    /// Evidence cells it marked for them (left out when 0).
+    #[serde(skip_serializing_if = "is_zero")]
+    bump_marks: u32,
 }
 
 fn is_zero(n: &u32) -> bool {
+    *n == 0
+}
+
+fn is_zero_usize(n: &usize) -> bool {
     *n == 0
 }
 
@@ -560,6 +588,8 @@ fn counters_json<S: serde::Serializer>(
             scans: c.scans,
             plan_steps: c.plan_steps,
             routes: c.routes,
+            bumps: c.bumps,
+            bump_marks: c.bump_marks,
         },
         s,
     )

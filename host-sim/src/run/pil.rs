@@ -17,7 +17,7 @@ use std::time::{Duration, Instant};
 use robovac::link::msg::{pack_row, Down, Hello, PackedRow, Report, StepMsg, Tick, Up};
 use robovac::link::{encode, FrameReader, MAX_FRAME};
 use robovac::localize::LocStats;
-use robovac::mission::{Counters, Event, MissionConfig, MotorCmd, State};
+use robovac::mission::{Bumper, Counters, Event, MissionConfig, MotorCmd, State};
 use robovac::robot::lidar_map::EvidenceMap;
 use robovac::robot::odometry::Pose;
 
@@ -321,13 +321,20 @@ impl Executive for Pil {
         self.send(&Down::Start)
     }
 
-    fn period(&mut self, t_us: u64, lidar: &[u8], enc: (u16, u16)) -> Result<MotorCmd, String> {
+    fn period(
+        &mut self,
+        t_us: u64,
+        lidar: &[u8],
+        enc: (u16, u16),
+        bumper: Bumper,
+    ) -> Result<MotorCmd, String> {
         self.lidar
             .write_all(lidar)
             .map_err(|e| format!("lidar UART: {e}"))?;
         self.send(&Down::Tick(Tick {
             t_us,
             enc,
+            bumper,
             lidar_bytes: lidar.len() as u16,
         }))?;
         self.last = self.recv_step()?;

@@ -144,6 +144,7 @@ pub fn run_suite(
                 firmware_order: false,
                 capacity: Default::default(),
                 pil: None,
+                bumper: true,
             };
             run_mission(&opts, |_, _, _| {}).map(|(rep, _, _)| rep)
         });

@@ -6,7 +6,9 @@
 use std::collections::VecDeque;
 
 use robovac::grid::maps::SplitMix64;
-use robovac::robot::hal::{ByteSource, Clock, MotorDriver, QuadratureEncoder};
+use robovac::robot::hal::{
+    Bumper, BumperSwitches, ByteSource, Clock, MotorDriver, QuadratureEncoder,
+};
 use robovac::robot::lidar::ld06;
 
 use crate::sim::world::World;
@@ -27,6 +29,10 @@ pub struct Collision {
     /// True when a person walked into the robot (it stood still, or it
     /// was not moving toward them).
     pub by_person: bool,
+    /// The robot drove into something its lidar cannot see (dark
+    /// furniture, glass): a bumper contact, counted apart from collisions
+    /// with what it could have seen.
+    pub unseen: bool,
 }
 
 /// Byte corruption injected into the lidar stream.
@@ -80,6 +86,9 @@ pub struct Sim {
     in_contact: bool,
     /// Every collision.
     pub collisions: Vec<Collision>,
+    /// The bumper's switches closed at some physics step since the last
+    /// read ([`BumperSwitches::read_bumper`]).
+    bumper: Bumper,
     lidar_angle_deg: f64,
     sample_acc: f64,
     samples: Vec<(u16, u16, u8)>,
@@ -145,6 +154,7 @@ impl Sim {
             burst,
             in_contact: false,
             collisions: Vec::new(),
+            bumper: Bumper::RELEASED,
             lidar_angle_deg: 0.0,
             sample_acc: 0.0,
             samples: Vec::new(),
@@ -345,8 +355,10 @@ impl Sim {
                 t_s: self.t_us as f64 * 1e-6,
                 pos: (x, y),
                 by_person: true,
+                unseen: false,
             });
             self.in_contact = true;
+            self.press_bumper_toward_person(x, y);
         } else if self.in_contact {
             // Contact ends once the body is 5 mm clear of everything.
             let near_person = self
@@ -387,15 +399,55 @@ impl Sim {
                     && robot_v > 0.005
                     && robot_v >= person_v
             });
+        let wall = self.world.nearest_wall(nx, ny, r + 0.01);
         if !self.in_contact {
             self.collisions.push(Collision {
                 t_s: self.t_us as f64 * 1e-6,
                 pos: (x, y),
                 by_person: !robot_into,
+                unseen: robot_into && wall.is_some_and(|(_, seen)| !seen),
             });
+        }
+        match wall {
+            Some((p, _)) => self.press_bumper(p),
+            None => self.press_bumper_toward_person(nx, ny),
         }
         self.in_contact = true;
         self.wheel_v = [0.0; 2];
+    }
+
+    /// The bumper closes for a contact at world point `p` on the front
+    /// half of the body: the left switch for a contact more than 15° to
+    /// the left, the right one likewise, both in between. The rear has
+    /// none.
+    fn press_bumper(&mut self, p: (f64, f64)) {
+        let (x, y, th) = self.pose;
+        let b = ((p.1 - y).atan2(p.0 - x) - th + std::f64::consts::PI)
+            .rem_euclid(std::f64::consts::TAU)
+            - std::f64::consts::PI;
+        if b.abs() > std::f64::consts::FRAC_PI_2 {
+            return;
+        }
+        let side = 15f64.to_radians();
+        let now = Bumper {
+            left: b > -side,
+            right: b < side,
+        };
+        self.bumper.left |= now.left;
+        self.bumper.right |= now.right;
+    }
+
+    /// The bumper closes against the nearest person touching the body.
+    fn press_bumper_toward_person(&mut self, x: f64, y: f64) {
+        let near = self
+            .world
+            .people
+            .iter()
+            .map(|p| ((p.pos.0 - x).hypot(p.pos.1 - y), p.pos))
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        if let Some((_, pos)) = near {
+            self.press_bumper(pos);
+        }
     }
     fn step_lidar(&mut self, dt: f64) {
         let c = &self.cfg;
@@ -463,6 +515,14 @@ impl Sim {
     /// would show it: quantised, wrapping at 16 bits.
     pub fn encoder(&self, i: usize) -> u16 {
         (self.ticks[i].floor() as i64).rem_euclid(65536) as u16
+    }
+}
+
+impl BumperSwitches for Sim {
+    /// Closed when a switch closed at any physics step since the last read
+    /// (a press shorter than a control period is not lost).
+    fn read_bumper(&mut self) -> Bumper {
+        std::mem::take(&mut self.bumper)
     }
 }
 

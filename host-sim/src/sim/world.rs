@@ -170,6 +170,39 @@ impl World {
         best.sqrt()
     }
 
+    /// The nearest point of a wall (a blocked cell, or the map's edge)
+    /// to (x, y) within `reach`, and whether the lidar can see that wall
+    /// (dark furniture returns no echo, glass lets the beam through): the
+    /// bumper's contact and how a collision counts.
+    pub fn nearest_wall(&self, x: f64, y: f64, reach: f64) -> Option<((f64, f64), bool)> {
+        let c = self.cell_m;
+        let mut best: Option<(f64, (f64, f64), bool)> = None;
+        let (x0, x1) = (
+            ((x - reach) / c).floor() as i32,
+            ((x + reach) / c).floor() as i32,
+        );
+        let (y0, y1) = (
+            ((y - reach) / c).floor() as i32,
+            ((y + reach) / c).floor() as i32,
+        );
+        for gy in y0..=y1 {
+            for gx in x0..=x1 {
+                let row = self.map.height as i32 - 1 - gy;
+                if !self.map.is_blocked(gx, row) {
+                    continue;
+                }
+                let nx = x.clamp(gx as f64 * c, (gx + 1) as f64 * c);
+                let ny = y.clamp(gy as f64 * c, (gy + 1) as f64 * c);
+                let d = (nx - x).hypot(ny - y);
+                let seen = !self.dark.contains(&(gx, row)) && !self.glass.contains(&(gx, row));
+                if d <= reach && best.is_none_or(|b| d < b.0) {
+                    best = Some((d, (nx, ny), seen));
+                }
+            }
+        }
+        best.map(|(_, p, seen)| (p, seen))
+    }
+
     /// Distance from (x, y) along heading `a` to the first wall or person,
     /// up to `max` (None past it). Walls by an exact grid traversal.
     pub fn ray(&self, x: f64, y: f64, a: f64, max: f64) -> Option<f64> {

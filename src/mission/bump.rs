@@ -1,0 +1,115 @@
+//! The bumper's contacts, on the planning side (issue 12: what the lidar
+//! cannot see). Control braked and backs the robot off
+//! ([`super::control`]); here the contact is put on the map, so the plans
+//! keep the body off it, and the leg is planned again once the back-off
+//! ends.
+//!
+//! **Where the contact is.** A switch tells only which half of the front
+//! arc closed ([`crate::robot::hal::Bumper::bearing_mrad`]). The spot
+//! marked is three evidence cells on the body's rim, half a cell out, at
+//! that bearing and ±[`SPREAD_MRAD`]: about 10 cm of a face across,
+//! enough for the configuration space to close the gap the robot drove
+//! into, narrow enough not to close a doorway beside it. A guess that
+//! falls short is corrected by the next bump a little further along.
+//!
+//! **Seen or not.** When the lidar has a point against the body on the
+//! side that closed ([`sees_contact`]: a person's foot, a wall), the lidar
+//! sees what was touched: the map has it already or must not (people
+//! move), and nothing is marked. Only what the lidar does not see (dark
+//! furniture with no echo, a glass pane, a chair's crossbar under the
+//! scan plane) is written, as a fixed wall ([`crate::robot::lidar_map::EvidenceMap::mark_contact`]);
+//! in known mode it lives apart from the prior's walls like anything else
+//! the robot learns, so the matcher never aligns to it.
+
+use super::{EventKind, Phase};
+use crate::math::angle::sin_cos_q30;
+use crate::nav::cspace;
+use crate::nav::geometry::RobotFrame;
+use crate::robot::odometry::Pose;
+
+/// Bearing between the three marked cells, mrad (about 14°: 47 mm apart
+/// on the rim of a 165 mm body plus half a 5 cm cell).
+pub const SPREAD_MRAD: i32 = 250;
+
+/// A lidar point within this of the body's rim (mm), in front on the side
+/// that closed, means the lidar sees what was touched (range noise is
+/// 10 mm; what the bumper pressed against is at 0).
+pub const SEEN_MM: i64 = 60;
+
+/// True when one of `points` (world mm) lies in front of the robot within
+/// [`SEEN_MM`] of its rim (`radius_mm`), on the half of the front arc
+/// that closed (`bearing_mrad` > 0: left, < 0: right, 0: either), with
+/// 30 mm of overlap across the middle.
+pub fn sees_contact(
+    mut points: impl Iterator<Item = (i32, i32)>,
+    pose: &Pose,
+    radius_mm: i64,
+    bearing_mrad: i32,
+) -> bool {
+    let frame = RobotFrame::of(pose);
+    let reach = radius_mm + SEEN_MM;
+    points.any(|q| {
+        let (fx, ly) = frame.to_robot(q);
+        let (fx, ly) = (fx as i64, ly as i64);
+        let side = match bearing_mrad.signum() {
+            1 => ly >= -30,
+            -1 => ly <= 30,
+            _ => true,
+        };
+        fx > 0 && side && fx * fx + ly * ly < reach * reach
+    })
+}
+
+sized_impl!([] {
+    /// A bump that control handed off: mark the spot when the lidar does
+    /// not see it, and plan the leg again after the back-off.
+    pub(super) fn bumped(&mut self, at_us: u64, pose: Pose, bearing_mrad: i32) {
+        let m = &mut *self.m;
+        m.bump_replan = true;
+        let rim_mm = m.cfg.radius_mm as i64 + self.p.map.res_mm() as i64 / 2;
+        let at = |b: i32| {
+            let th = (pose.theta_mrad as i64 + b as i64) * 1000;
+            let (s, c) = sin_cos_q30(th);
+            (
+                pose.x_mm.saturating_add(((rim_mm * c) >> 30) as i32),
+                pose.y_mm.saturating_add(((rim_mm * s) >> 30) as i32),
+            )
+        };
+        let contact = at(bearing_mrad);
+        let seen = sees_contact(m.points(), &pose, m.cfg.radius_mm as i64, bearing_mrad);
+        let marked = if seen { 0 } else { self.mark(&at, bearing_mrad) };
+        let event = EventKind::Bumped {
+            x_mm: contact.0,
+            y_mm: contact.1,
+            marked,
+        };
+        self.m.events.push(at_us, event);
+    }
+
+    /// Marks the three cells at `bearing_mrad` and ±[`SPREAD_MRAD`] on the
+    /// rim (`at`); returns how many were not walls already.
+    fn mark(&mut self, at: &impl Fn(i32) -> (i32, i32), bearing_mrad: i32) -> u8 {
+        let r = (self.m.cfg.radius_mm + self.m.cfg.margin_mm) as u32;
+        let mut marked = 0;
+        for k in [-1, 0, 1] {
+            let (x, y) = at(bearing_mrad + k * SPREAD_MRAD);
+            if !self.p.map.mark_contact(x, y) {
+                continue;
+            }
+            marked += 1;
+            self.m.counters.bump_marks += 1;
+            if self.m.phase == Phase::Edge && self.m.fine_is_edge {
+                // The edge pass keeps its grid (its swept layer lives
+                // there): stamp the new wall into it.
+                let cell = self.p.map.cell_of(x, y);
+                cspace::stamp_cell(self.p.fine, self.p.map.res_mm(), r, cell);
+            }
+        }
+        if let Some(changed) = self.p.map.take_changed() {
+            let res = self.p.map.res_mm();
+            self.m.note_map_change(res, changed);
+            self.m.map_dirty = true;
+        }
+        marked
+    }
+});
