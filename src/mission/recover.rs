@@ -134,7 +134,10 @@ sized_impl!([] {
     /// plan did not know of (a wall first seen now, or the pose drifted).
     /// Drops the queue and plans a fresh fine-map path from where the robot
     /// stands to where the queue ended; the same target given up after
-    /// three tries.
+    /// three tries. On the way home giving up is not failing: the way home
+    /// is planned again from scratch (the Return phase's own tries,
+    /// [`super::HOME_TRIES`] in all), so a person standing a few seconds
+    /// in the corridor to the dock does not strand the robot.
     pub(super) fn replan_leg(&mut self, now_us: u64, pose: &Pose) {
         let m = &mut *self.m;
         m.guard_block_since = None;
@@ -175,7 +178,9 @@ sized_impl!([] {
             m.counters.skipped += 1;
             m.replan_count = 0;
             if m.phase == Phase::Return || m.phase == Phase::ReturnSearch {
-                self.fail(Fault::NoWayHome);
+                // An empty queue in Return: the next step plans the way
+                // home again, or fails after the last try.
+                m.phase = Phase::Return;
             }
             return;
         }
