@@ -11,19 +11,24 @@ use robovac::robot::odometry::Pose;
 use super::mission_debug::{debug_collision, debug_grid, debug_tick};
 use crate::sim::robot::Sim;
 
+/// What the robot's sensors gave in one control period.
+pub struct Sensors<'a> {
+    /// The period's time, µs.
+    pub t_us: u64,
+    /// The lidar bytes that arrived in it (possibly none).
+    pub lidar: &'a [u8],
+    /// The encoders' raw counts.
+    pub enc: (u16, u16),
+    /// The bumper's switches.
+    pub bumper: Bumper,
+}
+
 /// The executive as the mission loop sees it.
 pub trait Executive {
     /// Starts the mission at the dock's given pose.
     fn begin(&mut self, dock: Pose) -> Result<(), String>;
-    /// One control period: the lidar bytes that arrived in it (possibly
-    /// none), the encoders' raw counts, the bumper; the motor command.
-    fn period(
-        &mut self,
-        t_us: u64,
-        lidar: &[u8],
-        enc: (u16, u16),
-        bumper: Bumper,
-    ) -> Result<MotorCmd, String>;
+    /// One control period's sensors in; the motor command.
+    fn period(&mut self, s: &Sensors<'_>) -> Result<MotorCmd, String>;
     /// Bytes of line noise on the link before the next tick (the link's
     /// bad-input test; a native executive has no link: ignored).
     fn link_noise(&mut self, _bytes: &[u8]) -> Result<(), String> {
@@ -75,16 +80,11 @@ impl Executive for Native<'_> {
         Ok(())
     }
 
-    fn period(
-        &mut self,
-        t_us: u64,
-        lidar: &[u8],
-        enc: (u16, u16),
-        bumper: Bumper,
-    ) -> Result<MotorCmd, String> {
-        self.mission.set_bumper(bumper);
+    fn period(&mut self, s: &Sensors<'_>) -> Result<MotorCmd, String> {
+        let (t_us, enc) = (s.t_us, s.enc);
+        self.mission.set_bumper(s.bumper);
         // In the chunks the UART model delivers (as before the sim link).
-        for chunk in lidar.chunks(512) {
+        for chunk in s.lidar.chunks(512) {
             self.mission.feed_lidar(self.parts, chunk, t_us);
         }
         Ok(if self.firmware_order {

@@ -5,7 +5,7 @@
 
 use std::time::Instant;
 
-use super::executive::{Executive, Native};
+use super::executive::{Executive, Native, Sensors};
 
 use robovac::coverage::PlannerKind;
 use robovac::mission::{MapMode, Mission, MissionConfig, MissionParts, MotorCmd, State};
@@ -378,7 +378,13 @@ fn control_period(
     } else {
         robovac::mission::Bumper::RELEASED
     };
-    match mission.period(sim.t_us, &lidar, enc, bumper)? {
+    let sensors = Sensors {
+        t_us: sim.t_us,
+        lidar: &lidar,
+        enc,
+        bumper,
+    };
+    match mission.period(&sensors)? {
         MotorCmd::Duty(a, b) => sim.set_duty(a, b),
         MotorCmd::Brake => sim.brake(),
     }

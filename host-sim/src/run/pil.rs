@@ -17,11 +17,11 @@ use std::time::{Duration, Instant};
 use robovac::link::msg::{pack_row, Down, Hello, PackedRow, Report, StepMsg, Tick, Up};
 use robovac::link::{encode, FrameReader, MAX_FRAME};
 use robovac::localize::LocStats;
-use robovac::mission::{Bumper, Counters, Event, MissionConfig, MotorCmd, State};
+use robovac::mission::{Counters, Event, MissionConfig, MotorCmd, State};
 use robovac::robot::lidar_map::EvidenceMap;
 use robovac::robot::odometry::Pose;
 
-use super::executive::Executive;
+use super::executive::{Executive, Sensors};
 
 /// Where the firmware image is and where its log goes.
 #[derive(Clone, Debug)]
@@ -321,21 +321,15 @@ impl Executive for Pil {
         self.send(&Down::Start)
     }
 
-    fn period(
-        &mut self,
-        t_us: u64,
-        lidar: &[u8],
-        enc: (u16, u16),
-        bumper: Bumper,
-    ) -> Result<MotorCmd, String> {
+    fn period(&mut self, s: &Sensors<'_>) -> Result<MotorCmd, String> {
         self.lidar
-            .write_all(lidar)
+            .write_all(s.lidar)
             .map_err(|e| format!("lidar UART: {e}"))?;
         self.send(&Down::Tick(Tick {
-            t_us,
-            enc,
-            bumper,
-            lidar_bytes: lidar.len() as u16,
+            t_us: s.t_us,
+            enc: s.enc,
+            bumper: s.bumper,
+            lidar_bytes: s.lidar.len() as u16,
         }))?;
         self.last = self.recv_step()?;
         Ok(self.last.cmd)

@@ -128,6 +128,18 @@ impl World {
     /// off-map cell) within `reach`, until `f` returns true; returns
     /// whether it did.
     fn any_wall_within(&self, x: f64, y: f64, reach: f64, mut f: impl FnMut(f64) -> bool) -> bool {
+        self.any_wall_cell_within(x, y, reach, |d2, _, _| f(d2))
+    }
+
+    /// As [`Self::any_wall_within`], with each cell's (column, row) and its
+    /// nearest point to (x, y).
+    fn any_wall_cell_within(
+        &self,
+        x: f64,
+        y: f64,
+        reach: f64,
+        mut f: impl FnMut(f64, (i32, i32), (f64, f64)) -> bool,
+    ) -> bool {
         let c = self.cell_m;
         let (x0, x1) = (
             ((x - reach) / c).floor() as i32,
@@ -146,7 +158,7 @@ impl World {
                 // nearest point of the cell square to the centre
                 let nx = x.clamp(gx as f64 * c, (gx + 1) as f64 * c);
                 let ny = y.clamp(gy as f64 * c, (gy + 1) as f64 * c);
-                if f((nx - x).powi(2) + (ny - y).powi(2)) {
+                if f((nx - x).powi(2) + (ny - y).powi(2), (gx, row), (nx, ny)) {
                     return true;
                 }
             }
@@ -175,32 +187,16 @@ impl World {
     /// (dark furniture returns no echo, glass lets the beam through): the
     /// bumper's contact and how a collision counts.
     pub fn nearest_wall(&self, x: f64, y: f64, reach: f64) -> Option<((f64, f64), bool)> {
-        let c = self.cell_m;
-        let mut best: Option<(f64, (f64, f64), bool)> = None;
-        let (x0, x1) = (
-            ((x - reach) / c).floor() as i32,
-            ((x + reach) / c).floor() as i32,
-        );
-        let (y0, y1) = (
-            ((y - reach) / c).floor() as i32,
-            ((y + reach) / c).floor() as i32,
-        );
-        for gy in y0..=y1 {
-            for gx in x0..=x1 {
-                let row = self.map.height as i32 - 1 - gy;
-                if !self.map.is_blocked(gx, row) {
-                    continue;
-                }
-                let nx = x.clamp(gx as f64 * c, (gx + 1) as f64 * c);
-                let ny = y.clamp(gy as f64 * c, (gy + 1) as f64 * c);
-                let d = (nx - x).hypot(ny - y);
-                let seen = !self.dark.contains(&(gx, row)) && !self.glass.contains(&(gx, row));
-                if d <= reach && best.is_none_or(|b| d < b.0) {
-                    best = Some((d, (nx, ny), seen));
-                }
+        // (squared distance, point, cell) of the nearest so far.
+        type Near = (f64, (f64, f64), (i32, i32));
+        let mut best: Option<Near> = None;
+        self.any_wall_cell_within(x, y, reach, |d2, cell, p| {
+            if d2 <= reach * reach && best.is_none_or(|b| d2 < b.0) {
+                best = Some((d2, p, cell));
             }
-        }
-        best.map(|(_, p, seen)| (p, seen))
+            false
+        });
+        best.map(|(_, p, cell)| (p, !self.dark.contains(&cell) && !self.glass.contains(&cell)))
     }
 
     /// Distance from (x, y) along heading `a` to the first wall or person,
