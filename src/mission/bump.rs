@@ -36,10 +36,11 @@ pub const SPREAD_MRAD: i32 = 250;
 /// 10 mm; what the bumper pressed against is at 0).
 pub const SEEN_MM: i64 = 60;
 
-/// True when one of `points` (world mm) lies in front of the robot within
-/// [`SEEN_MM`] of its rim (`radius_mm`), on the half of the front arc
-/// that closed (`bearing_mrad` > 0: left, < 0: right, 0: either), with
-/// 30 mm of overlap across the middle.
+/// True when one of `points` (world mm) lies within [`SEEN_MM`] of the
+/// robot's rim (`radius_mm`), on the side that closed (`bearing_mrad` >
+/// 0: left, < 0: right, 0: either; 30 mm of overlap across the middle),
+/// no further back than half the radius behind the axle (a contact at the
+/// arc's end, 90° aside, has its points level with the centre).
 pub fn sees_contact(
     mut points: impl Iterator<Item = (i32, i32)>,
     pose: &Pose,
@@ -56,7 +57,7 @@ pub fn sees_contact(
             -1 => ly <= 30,
             _ => true,
         };
-        fx > 0 && side && fx * fx + ly * ly < reach * reach
+        fx > -radius_mm / 2 && side && fx * fx + ly * ly < reach * reach
     })
 }
 

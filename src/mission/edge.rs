@@ -43,6 +43,20 @@ sized_impl!([] {
         m.phase = Phase::Edge;
     }
 
+    /// Boxed in on the map (someone who stood beside the robot is still
+    /// mapped around it, or a bump's mark closed in on where the edge pass
+    /// stood): back to Cover, which builds the edge pass again from a
+    /// fresher map at its next step; [`HOME_TRIES`] times at most.
+    fn restart_edge(&mut self) {
+        let m = &mut *self.m;
+        m.edge_tries += 1;
+        m.route.clear();
+        m.edge = EdgePass::new();
+        m.queue.reset(m.queue.last_end().unwrap_or((0, 0)));
+        m.fine_is_edge = false;
+        m.phase = Phase::Cover;
+    }
+
     pub(super) fn top_up_edge(&mut self) {
         let budget = self.m.cfg.node_budget;
         while self.m.queue.len() < 8 {
@@ -53,16 +67,16 @@ sized_impl!([] {
                     if self.m.edge.stats.reached * 2 < self.m.edge.stats.free
                         && self.m.edge_tries < HOME_TRIES =>
                 {
-                    // Boxed in on the map (someone who stood beside the
-                    // robot is still mapped around it): wait and build the
-                    // edge pass again from a fresher map.
-                    let m = &mut *self.m;
-                    m.edge_tries += 1;
-                    m.route.clear();
-                    m.edge = EdgePass::new();
-                    m.queue.reset(m.queue.last_end().unwrap_or((0, 0)));
-                    m.fine_is_edge = false;
-                    m.phase = Phase::Cover;
+                    self.restart_edge();
+                    return;
+                }
+                Err(SearchError::StartBlocked | SearchError::GoalBlocked)
+                    if self.m.edge_tries < HOME_TRIES =>
+                {
+                    // A bump's mark stamped the grid around where the
+                    // robot stands (it touched what it marked): build the
+                    // edge pass again from a free cell nearby.
+                    self.restart_edge();
                     return;
                 }
                 Ok(EdgeStep::Move { to, edge }) => {
