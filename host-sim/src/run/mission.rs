@@ -6,6 +6,7 @@
 use std::time::Instant;
 
 use super::executive::{Executive, Native, Sensors};
+pub use super::report_json::report_json;
 
 use robovac::coverage::PlannerKind;
 use robovac::mission::{MapMode, Mission, MissionConfig, MissionParts, MotorCmd, State};
@@ -101,7 +102,7 @@ pub struct MissionReport {
     pub collisions: usize,
     /// The robot moved into something its lidar cannot see (dark
     /// furniture, glass): felt by the bumper. Left out when 0.
-    #[serde(skip_serializing_if = "is_zero_usize")]
+    #[serde(skip_serializing_if = "super::report_json::is_zero_usize")]
     pub bumper_contacts: usize,
     /// A person walked into the robot.
     pub person_contacts: usize,
@@ -126,10 +127,10 @@ pub struct MissionReport {
     /// The final state.
     pub final_state: String,
     /// Faults and events: (name, count).
-    #[serde(serialize_with = "faults_json")]
+    #[serde(serialize_with = "super::report_json::faults_json")]
     pub faults: Vec<(String, u64)>,
     /// The executive's counters.
-    #[serde(serialize_with = "counters_json")]
+    #[serde(serialize_with = "super::report_json::counters_json")]
     pub counters: robovac::mission::Counters,
     /// Odometry error at the end, mm.
     pub odometry_error_mm: f64,
@@ -151,7 +152,7 @@ pub struct MissionReport {
     /// The true final heading's difference from the start's, mrad.
     pub dock_heading_error_mrad: f64,
     /// Localisation's counters.
-    #[serde(serialize_with = "loc_json")]
+    #[serde(serialize_with = "super::report_json::loc_json")]
     pub localization: robovac::localize::LocStats,
     /// Sim time the robot spent lost (braked, relocalising), s.
     pub lost_time_s: f64,
@@ -536,86 +537,4 @@ fn faults(c: &robovac::mission::Counters, state: State, finished: bool) -> Vec<(
         faults.push(("time limit".to_string(), 1));
     }
     faults
-}
-
-/// The report as JSON.
-pub fn report_json(rep: &MissionReport) -> serde_json::Value {
-    let mut v = serde_json::to_value(rep).unwrap_or_default();
-    v["sim_speed"] = serde_json::json!(rep.sim_time_s / rep.wall_time_s.max(1e-9));
-    v["time_vs_ideal"] = serde_json::json!(rep.sim_time_s / rep.ideal_time_s.max(1e-9));
-    v
-}
-
-/// The counters the report shows (names as in the JSON).
-#[derive(serde::Serialize)]
-struct CountersJson {
-    dwa_no_admissible: u32,
-    detours: u32,
-    replans: u32,
-    guard_ticks: u32,
-    escape_ticks: u32,
-    abandoned_retries: u32,
-    retried: u32,
-    scans: u32,
-    plan_steps: u32,
-    /// Long ways routed on the planning cells (only at the firmware's
-    /// capacity; left out when 0).
-    #[serde(skip_serializing_if = "is_zero")]
-    routes: u32,
-    /// Bumper contacts the executive handled (left out when 0).
-    #[serde(skip_serializing_if = "is_zero")]
-    bumps: u32,
-    /// Evidence cells it marked for them (left out when 0).
-    #[serde(skip_serializing_if = "is_zero")]
-    bump_marks: u32,
-}
-
-fn is_zero(n: &u32) -> bool {
-    *n == 0
-}
-
-fn is_zero_usize(n: &usize) -> bool {
-    *n == 0
-}
-
-fn counters_json<S: serde::Serializer>(
-    c: &robovac::mission::Counters,
-    s: S,
-) -> Result<S::Ok, S::Error> {
-    serde::Serialize::serialize(
-        &CountersJson {
-            dwa_no_admissible: c.dwa_no_admissible,
-            detours: c.detours,
-            replans: c.replans,
-            guard_ticks: c.guard_ticks,
-            escape_ticks: c.escapes,
-            abandoned_retries: c.abandoned_retries,
-            retried: c.retried,
-            scans: c.scans,
-            plan_steps: c.plan_steps,
-            routes: c.routes,
-            bumps: c.bumps,
-            bump_marks: c.bump_marks,
-        },
-        s,
-    )
-}
-
-fn loc_json<S: serde::Serializer>(
-    c: &robovac::localize::LocStats,
-    s: S,
-) -> Result<S::Ok, S::Error> {
-    s.collect_map([
-        ("matches", c.matches),
-        ("accepted", c.accepted),
-        ("partial", c.partial),
-        ("rejected", c.rejected),
-        ("lost", c.lost),
-        ("relocalised", c.relocalised),
-        ("reloc_failed", c.reloc_failed),
-    ])
-}
-
-fn faults_json<S: serde::Serializer>(f: &[(String, u64)], s: S) -> Result<S::Ok, S::Error> {
-    s.collect_map(f.iter().map(|(k, v)| (k, v)))
 }

@@ -11,4 +11,5 @@ pub mod mission_debug;
 pub mod parts;
 pub mod pil;
 pub mod plan;
+mod report_json;
 pub mod suite;
