@@ -113,10 +113,12 @@ fn four_bit_cells_hold_their_values_apart() {
     use robovac::robot::lidar_map::{FREE_LIMIT, LIMIT};
     // 7 × 5 = 35 cells in 18 bytes: an odd count, so the last byte is half used.
     let mut m: Box<EvidenceMap<{ evidence_bytes(7 * 5) }>> = Box::new(EvidenceMap::new());
-    // Size, resolution, the box of changed cells (16 bytes) and the cells.
+    // Size, resolution, the box of changed cells (16 bytes), the owner's
+    // zones and the cells.
+    let zones = core::mem::size_of::<robovac::grid::Zones>();
     assert_eq!(
         core::mem::size_of_val(&*m),
-        (12 + 16 + 18_usize).next_multiple_of(4)
+        (12 + 16 + zones + 18_usize).next_multiple_of(4)
     );
     m.reset(7, 5, 50).unwrap();
     let want = |x: i32, y: i32| match (x * 3 + y) % 3 {

@@ -214,6 +214,35 @@ fn mission_reports_json_and_rejects_bad_input() {
             "zigzag",
         ],
         vec!["bench", "missions", "--runs", "0"],
+        vec![
+            "mission",
+            "--map",
+            map.to_str().unwrap(),
+            "--no-go",
+            "1,2,3",
+        ],
+        vec![
+            "mission",
+            "--map",
+            map.to_str().unwrap(),
+            "--virtual-wall",
+            "a,1,2,3",
+        ],
+        // A no-go zone over the dock.
+        vec![
+            "mission",
+            "--map",
+            map.to_str().unwrap(),
+            "--start",
+            "3.0,2.25",
+            "--no-go",
+            "2.5,2.0,3.5,2.5",
+        ],
+        // More zones than the map holds.
+        ["mission", "--map", map.to_str().unwrap()]
+            .into_iter()
+            .chain((0..9).flat_map(|_| ["--no-go", "0.2,0.2,0.4,0.4"]))
+            .collect(),
     ] {
         let out = bin().args(&args).output().unwrap();
         let err = String::from_utf8_lossy(&out.stderr);

@@ -160,3 +160,67 @@ fn a_bump_mark_survives_beams_through_it() {
     let (cx, cy) = map.cell_of(x, y);
     assert_eq!(map.state(cx, cy), CellState::Occupied);
 }
+
+/// Squared distance (mm²) from point p to segment a–b, in floating point
+/// (independent of the core's integer version).
+fn seg_dist2_f(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
+    let (ux, uy) = (b.0 - a.0, b.1 - a.1);
+    let len2 = ux * ux + uy * uy;
+    let t = if len2 > 0.0 {
+        (((p.0 - a.0) * ux + (p.1 - a.1) * uy) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a.0 + t * ux - p.0).powi(2) + (a.1 + t * uy - p.1).powi(2)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(150))]
+    /// No-go zones and virtual walls: no free cell of the fine space puts
+    /// the body (radius r) within the margin of a zone, in world mm, on
+    /// random maps with random rectangles and segments (some reaching
+    /// past the map).
+    #[test]
+    fn the_free_space_keeps_the_body_out_of_zones(
+        w in 4u32..48, h in 4u32..48,
+        r in 1u32..300,
+        margin in 0u32..120,
+        cells in prop::collection::vec((0u8..48, 0u8..48, any::<u8>()), 0..40),
+        zones in prop::collection::vec(
+            (any::<bool>(), -200i32..2600, -200i32..2600, -200i32..2600, -200i32..2600), 1..=robovac::grid::zones::MAX_ZONES),
+    ) {
+        use robovac::grid::Zone;
+        let mut map = random_map(w, h, 50, &cells);
+        let zones: Vec<Zone> = zones.iter().map(|&(rect, a, b, c, d)| if rect {
+            Zone::NoGo { x0_mm: a, y0_mm: b, x1_mm: c, y1_mm: d }
+        } else {
+            Zone::Wall { ax_mm: a, ay_mm: b, bx_mm: c, by_mm: d }
+        }).collect();
+        map.set_zones(&zones, margin).unwrap();
+        let mut fine = Fine::new();
+        build_fine(&map, &mut fine, r, false).unwrap();
+        let keep = (r + margin) as f64;
+        for y in 0..h as i32 {
+            for x in 0..w as i32 {
+                if fine.is_blocked(x, y) {
+                    continue;
+                }
+                // The cell's centre in world mm (y up).
+                let p = (x as f64 * 50.0 + 25.0, (h as i32 - 1 - y) as f64 * 50.0 + 25.0);
+                for z in &zones {
+                    let d2 = match *z {
+                        Zone::NoGo { x0_mm, y0_mm, x1_mm, y1_mm } => {
+                            let dx = (x0_mm.min(x1_mm) as f64 - p.0).max(0.0).max(p.0 - x0_mm.max(x1_mm) as f64);
+                            let dy = (y0_mm.min(y1_mm) as f64 - p.1).max(0.0).max(p.1 - y0_mm.max(y1_mm) as f64);
+                            dx * dx + dy * dy
+                        }
+                        Zone::Wall { ax_mm, ay_mm, bx_mm, by_mm } => seg_dist2_f(
+                            p, (ax_mm as f64, ay_mm as f64), (bx_mm as f64, by_mm as f64)),
+                    };
+                    prop_assert!(d2 >= keep * keep - 1.0,
+                        "free cell ({}, {}) is {:.0} mm from {:?}, keep {} mm", x, y, d2.sqrt(), z, keep);
+                }
+            }
+        }
+    }
+}

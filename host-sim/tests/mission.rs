@@ -9,6 +9,7 @@ use host_sim::run::suite::suite_map;
 use host_sim::sim::robot::{Noise, RobotConfig};
 use host_sim::sim::world::World;
 use robovac::coverage::PlannerKind;
+use robovac::grid::Zone;
 use robovac::mission::MapMode;
 
 fn opts(map: &str, mode: MapMode, people: usize, noise: Noise, seed: u64) -> MissionOptions {
@@ -32,6 +33,8 @@ fn opts(map: &str, mode: MapMode, people: usize, noise: Noise, seed: u64) -> Mis
         capacity: Capacity::Host,
         pil: None,
         bumper: true,
+        zones: Vec::new(),
+        map_store: Default::default(),
     }
 }
 
@@ -429,4 +432,104 @@ fn the_bumper_keeps_the_robot_off_what_the_lidar_cannot_see() {
         without.counters.stalls
     );
     assert_eq!(without.counters.bumps, 0);
+}
+
+/// The gap (m) between a point and a zone, worked out here apart from the
+/// twin's own measure.
+fn zone_gap(z: &Zone, (x, y): (f64, f64)) -> f64 {
+    let m = |v: i32| v as f64 / 1000.0;
+    match *z {
+        Zone::NoGo {
+            x0_mm,
+            y0_mm,
+            x1_mm,
+            y1_mm,
+        } => {
+            let dx = (m(x0_mm.min(x1_mm)) - x)
+                .max(x - m(x0_mm.max(x1_mm)))
+                .max(0.0);
+            let dy = (m(y0_mm.min(y1_mm)) - y)
+                .max(y - m(y0_mm.max(y1_mm)))
+                .max(0.0);
+            dx.hypot(dy)
+        }
+        // Sampled every millimetre along the wall.
+        Zone::Wall {
+            ax_mm,
+            ay_mm,
+            bx_mm,
+            by_mm,
+        } => {
+            let n = (bx_mm - ax_mm).abs().max((by_mm - ay_mm).abs()).max(1);
+            (0..=n)
+                .map(|k| {
+                    let f = k as f64 / n as f64;
+                    let (px, py) = (
+                        m(ax_mm) + f * m(bx_mm - ax_mm),
+                        m(ay_mm) + f * m(by_mm - ay_mm),
+                    );
+                    (px - x).hypot(py - y)
+                })
+                .fold(f64::INFINITY, f64::min)
+        }
+    }
+}
+
+/// No-go zones and virtual walls (issue 12), given on the command line's
+/// terms: a no-go rectangle in the open (a pet's bowls) and two virtual
+/// walls closing the studio's south-east room. On the truth, the body
+/// never reaches into the rectangle or touches a wall, the closed room is
+/// never entered, and the rest is cleaned and the robot docks, in both
+/// modes under realistic noise with a person about.
+#[test]
+fn the_body_keeps_out_of_no_go_zones_and_behind_virtual_walls() {
+    use host_sim::sim::zones::{no_go_m, wall_m};
+    let r = RobotConfig::default().diameter_m / 2.0;
+    for (mode, seed) in [(MapMode::Known, 1), (MapMode::Unknown, 3)] {
+        let mut o = opts("studio", mode, 1, Noise::Realistic, seed);
+        o.zones = vec![
+            no_go_m(1.0, 0.3, 1.6, 0.9),
+            wall_m(4.35, 2.25, 5.05, 2.25),
+            wall_m(3.85, 0.85, 3.85, 1.55),
+        ];
+        let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
+        check_truth(&o, &rep, &t);
+        for &p in t.truth.iter().step_by(5) {
+            for z in &o.zones {
+                assert!(
+                    zone_gap(z, p) >= r,
+                    "{mode:?}: body at {p:?} reaches into {z:?}"
+                );
+            }
+            assert!(
+                !(p.0 > 3.9 && p.1 < 2.2),
+                "{mode:?}: in the closed room at {p:?}"
+            );
+        }
+        let z = rep.zones.expect("zones reported");
+        assert_eq!((z.count, z.entries), (3, 0));
+        assert!(rep.finished && rep.docked, "{mode:?}: {}", rep.final_state);
+        assert!(rep.coverage >= 0.95, "{mode:?}: coverage {}", rep.coverage);
+    }
+}
+
+/// A ValetudoMap's own zones are kept: the 1c home's owner fenced the
+/// dock's room off the rest of the flat with a virtual wall, and put a
+/// no-go area in it; the robot cleans that room only.
+#[test]
+fn a_valetudo_maps_own_zones_are_kept() {
+    let mut o = opts("1c", MapMode::Known, 0, Noise::None, 1);
+    o.cell_m = o.map.cell_m.expect("a ValetudoMap has its cell size");
+    let zones = host_sim::sim::zones::map_zones(&o.map);
+    assert_eq!(zones.len(), 2);
+    let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
+    let r = RobotConfig::default().diameter_m / 2.0;
+    for &p in t.truth.iter().step_by(5) {
+        for z in &zones {
+            assert!(zone_gap(z, p) >= r, "body at {p:?} reaches into {z:?}");
+        }
+    }
+    assert!(rep.finished && rep.docked, "{}", rep.final_state);
+    assert!(rep.floor_m2 < 4.0, "reachable floor {} m²", rep.floor_m2);
+    assert!(rep.coverage >= 0.9, "coverage {}", rep.coverage);
 }

@@ -5,5 +5,7 @@
 pub mod los;
 pub mod maps;
 pub mod occupancy;
+pub mod zones;
 
 pub use occupancy::{Cell, Grid, GridError, Layer};
+pub use zones::{Zone, ZoneError, Zones};

@@ -106,14 +106,17 @@ sized_impl!([] {
             let k = (d - extra).max(0);
             ((rx as i64 * k / d) as i32, (ry as i64 * k / d) as i32)
         });
-        // Nearby grid obstacles (known mode: the prior map's walls), as
+        // Nearby grid obstacles (known mode: the prior map's walls; the
+        // rims of no-go zones and virtual walls), as
         // many as fill RING + MAP_POINTS with the ring's.
         let map = &*self.p.map;
         let (cx, cy) = map.cell_of(pose.x_mm, pose.y_mm);
         let k = (600 / map.res_mm().max(1)) as i32;
         let grid = (cy - k..=cy + k)
             .flat_map(|y| (cx - k..=cx + k).map(move |x| (x, y)))
-            .filter(|&(x, y)| map.state(x, y) == CellState::Occupied)
+            .filter(|&(x, y)| {
+                map.state(x, y) == CellState::Occupied || cspace::zone_rim(map, x, y)
+            })
             .map(|(x, y)| frame.to_robot(cspace::fine_centre_mm(map, x, y)))
             .take((RING + MAP_POINTS).saturating_sub(ring.len().min(RING)));
         let mut obs = [(0i32, 0i32); MAX_OBSTACLES];

@@ -123,6 +123,16 @@ pub enum MotorCmd {
 pub struct MissionConfig {
     /// Map mode.
     pub mode: MapMode,
+    /// The map an earlier run saved ([`crate::robot::map_image`]) was
+    /// loaded before the mission began. Used with [`MapMode::Unknown`]:
+    /// the robot localises against it and plans over it from the start,
+    /// and keeps mapping. Its first revolution relocalises the dock pose
+    /// within the start window, as known mode does. (Frozen as a floor
+    /// plan, a saved map's walls a cell off where the first run drifted
+    /// could never be corrected: the robot pressed against a door frame
+    /// that stood a cell further out, or lost itself where few walls were
+    /// certain enough to freeze.)
+    pub prior_saved: bool,
     /// Coverage planner.
     pub kind: PlannerKind,
     /// Wheels and encoders.
@@ -195,6 +205,7 @@ impl MissionConfig {
         dwa.v_max_mm_s = 300;
         Self {
             mode,
+            prior_saved: false,
             kind: PlannerKind::BOha,
             geometry,
             gains,

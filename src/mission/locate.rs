@@ -49,10 +49,11 @@ impl Mission {
         mt.points.load(&self.lidar.scan, &self.cfg.mount);
         let (moved, turned) = self.lidar.scan.motion();
         let still = moved <= STILL.0 && turned <= STILL.1;
-        if prior_only && !self.start_fixed && matches!(self.phase, Phase::SelfTestScan { .. }) {
+        let start_window = prior_only || self.cfg.prior_saved;
+        if start_window && !self.start_fixed && matches!(self.phase, Phase::SelfTestScan { .. }) {
             if still {
                 self.start_fixed = true;
-                if let Ok(p) = self.loc.relocalise(mt, map, true, false) {
+                if let Ok(p) = self.loc.relocalise(mt, map, prior_only, false) {
                     self.jump_to(p, now_us);
                     self.start = self.drive.odom.pose();
                 }

@@ -6,7 +6,9 @@ use super::{Exec, Mission};
 use crate::coverage::{Coverage, PlanStats};
 use crate::grid::{Cell, Grid, Layer};
 use crate::localize::ScanMatcher;
+use crate::robot::hal::Storage;
 use crate::robot::lidar_map::EvidenceMap;
+use crate::robot::map_image::MapImageError;
 use crate::robot::odometry::Pose;
 use crate::search::WindowSearch;
 
@@ -52,6 +54,9 @@ pub trait MissionParts {
     fn feed_lidar(&mut self, m: &mut Mission, bytes: &[u8], now_us: u64);
     /// See [`Mission::plan`].
     fn plan(&mut self, m: &mut Mission, now_us: u64);
+    /// Saves the evidence map and the `dock` pose on it to `store`, for
+    /// the next run ([`crate::robot::map_image`]); the bytes written.
+    fn save_map(&self, dock: Pose, store: &mut dyn Storage) -> Result<u32, MapImageError>;
     /// For diagnosis: the coverage planner's counters and position.
     fn planner_view(&self) -> PlannerView;
     /// For diagnosis: planning cell (x, y) as (blocked, covered); `None`
@@ -83,6 +88,10 @@ sized_impl!([MissionParts for Parts<'_, N, NW, OPEN, LCAP, PCAP, FW, EV, MW>] {
 
     fn plan(&mut self, m: &mut Mission, now_us: u64) {
         Exec { m, p: self }.plan(now_us);
+    }
+
+    fn save_map(&self, dock: Pose, store: &mut dyn Storage) -> Result<u32, MapImageError> {
+        crate::robot::map_image::save(self.map, dock, store)
     }
 
     fn planner_view(&self) -> PlannerView {

@@ -28,8 +28,10 @@ pub fn square_dist2(px: i64, py: i64, cx: i64, cy: i64, res: i64) -> i64 {
     dx * dx + dy * dy
 }
 
-/// True when an evidence cell stops the robot: occupied, off the map, or
-/// unknown when `unknown_blocks`.
+/// True when an evidence cell stops the robot: occupied, off the map, in
+/// a no-go zone or on a virtual wall ([`EvidenceMap::in_zone`]), or
+/// unknown when `unknown_blocks`. Every grid, anchor and clearance check
+/// below asks this, so a zone keeps the body out everywhere.
 #[inline]
 pub fn cell_blocks<const EV: usize>(
     map: &EvidenceMap<EV>,
@@ -40,11 +42,24 @@ pub fn cell_blocks<const EV: usize>(
     if cx < 0 || cy < 0 || cx as u32 >= map.width() || cy as u32 >= map.height() {
         return true;
     }
+    if map.in_zone(cx, cy) {
+        return true;
+    }
     match map.state(cx, cy) {
         CellState::Occupied => true,
         CellState::Unknown => unknown_blocks,
         CellState::Free => false,
     }
+}
+
+/// True for a cell on the rim of a zone (in it, with a 4-neighbour out of
+/// it): what the local planner treats as an obstacle point, so a swerve
+/// around a person does not cut into a no-go zone.
+pub fn zone_rim<const EV: usize>(map: &EvidenceMap<EV>, cx: i32, cy: i32) -> bool {
+    map.in_zone(cx, cy)
+        && [(1, 0), (-1, 0), (0, 1), (0, -1)]
+            .iter()
+            .any(|&(dx, dy)| !map.in_zone(cx + dx, cy + dy))
 }
 
 /// True when a disc of `radius_mm` at index-space point (px, py) overlaps a

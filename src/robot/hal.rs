@@ -80,3 +80,27 @@ pub trait BumperSwitches {
     /// holds them closed for many periods).
     fn read_bumper(&mut self) -> Bumper;
 }
+
+/// Why a [`Storage`] access failed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum StorageError {
+    /// The bytes asked for lie beyond the store's capacity.
+    OutOfRange,
+    /// The device refused (a flash program or erase error, a file error).
+    Device,
+}
+
+/// A small non-volatile store, addressed in bytes from 0: a flash sector
+/// on the chip, a file on the host. What the robot keeps between runs
+/// (its map) lives here. Erased bytes read 0xFF, as flash does.
+pub trait Storage {
+    /// Bytes it holds.
+    fn capacity(&self) -> u32;
+    /// Reads `buf.len()` bytes from `offset`.
+    fn read(&mut self, offset: u32, buf: &mut [u8]) -> Result<(), StorageError>;
+    /// Erases every byte (to 0xFF): needed before writing, as on flash.
+    fn erase(&mut self) -> Result<(), StorageError>;
+    /// Writes `data` at `offset` into erased bytes.
+    fn write(&mut self, offset: u32, data: &[u8]) -> Result<(), StorageError>;
+}

@@ -22,7 +22,7 @@
 //! cell to the hit cell. Returns of 0 (no echo) are skipped; returns beyond
 //! the maximum range clear the beam up to that range and mark nothing.
 
-use crate::grid::{Grid, GridError};
+use crate::grid::{Grid, GridError, Zone, ZoneError, Zones};
 use crate::math::angle::sin_cos_q30;
 use crate::robot::lidar::scan::Scan;
 use crate::robot::lidar::LidarFrame;
@@ -143,6 +143,9 @@ pub struct EvidenceMap<const B: usize> {
     /// [`NO_CELLS`] when none did (a plain box: a cell's note is four
     /// comparisons, in the ray-cast's inner loop).
     changed: CellBox,
+    /// The owner's no-go zones and virtual walls: a planning rule beside
+    /// the evidence, never in it ([`crate::grid::zones`]).
+    zones: Zones,
     /// Cell `i` is the low nibble of byte `i / 2` when `i` is even, the
     /// high one when odd; two's complement.
     nibbles: [u8; B],
@@ -162,6 +165,7 @@ impl<const B: usize> EvidenceMap<B> {
             height: 0,
             res_mm: 1,
             changed: NO_CELLS,
+            zones: Zones::new(),
             nibbles: [0; B],
         }
     }
@@ -190,9 +194,52 @@ impl<const B: usize> EvidenceMap<B> {
         self.width = width;
         self.height = height;
         self.changed = NO_CELLS;
+        self.zones = Zones::new();
         self.res_mm = res_mm;
         self.nibbles.iter_mut().for_each(|c| *c = 0);
         Ok(())
+    }
+
+    /// Sets the owner's no-go zones and virtual walls (world mm), each
+    /// grown by `margin_mm`, after [`Self::reset`] (which clears them) and
+    /// before the mission begins. All or nothing.
+    pub fn set_zones(&mut self, zones: &[Zone], margin_mm: u32) -> Result<(), ZoneError> {
+        self.zones.set(zones, self.height, self.res_mm, margin_mm)
+    }
+
+    /// True when the body must not overlap cell (cx, cy): it lies in a
+    /// no-go zone or on a virtual wall. Not a wall for the scan matcher.
+    #[inline]
+    pub fn in_zone(&self, cx: i32, cy: i32) -> bool {
+        self.zones.blocks(cx, cy, self.res_mm)
+    }
+
+    /// How many zones are set.
+    pub fn zone_count(&self) -> usize {
+        self.zones.len()
+    }
+
+    /// The map's cells as stored, two a byte (see [`Self::reset`]'s size):
+    /// what a saved map keeps ([`crate::robot::map_image`]).
+    pub fn cell_bytes(&self) -> &[u8] {
+        let n = (self.width as usize * self.height as usize).div_ceil(2);
+        self.nibbles.get(..n).unwrap_or(&[])
+    }
+
+    /// [`Self::cell_bytes`] to be filled, after [`Self::reset`] sized the
+    /// map: loading a saved map.
+    pub fn cell_bytes_mut(&mut self) -> &mut [u8] {
+        let n = (self.width as usize * self.height as usize).div_ceil(2);
+        self.nibbles.get_mut(..n).unwrap_or(&mut [])
+    }
+
+    /// Empties the map (0 × 0 cells, no zones) in place: no 29 KB value
+    /// built on the stack.
+    pub fn clear(&mut self) {
+        self.width = 0;
+        self.height = 0;
+        self.changed = NO_CELLS;
+        self.zones = Zones::new();
     }
 
     /// Width in cells.

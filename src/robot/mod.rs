@@ -6,5 +6,6 @@ pub mod debounce;
 pub mod hal;
 pub mod lidar;
 pub mod lidar_map;
+pub mod map_image;
 pub mod odometry;
 pub mod wheel_control;

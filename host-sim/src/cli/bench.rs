@@ -58,6 +58,10 @@ pub enum BenchCmd {
             default_value = "none,realistic"
         )]
         noise: Vec<NoiseArg>,
+        /// Leave out the real homes' own no-go zones and virtual walls
+        /// (the whole home cleaned, as issue 10's figures were measured).
+        #[arg(long)]
+        no_map_zones: bool,
     },
     /// Wheel speed step response to 0.3 m/s (rise time, overshoot, steady-state error).
     WheelStep {
@@ -119,6 +123,7 @@ pub fn run(which: BenchCmd) -> Result<(), String> {
             maps,
             people,
             noise,
+            no_map_zones,
         } => {
             let noises: Vec<_> = noise.into_iter().map(Into::into).collect();
             let maps = super::bench_missions::suite_map_names(&maps)?;
@@ -126,6 +131,7 @@ pub fn run(which: BenchCmd) -> Result<(), String> {
                 maps: &maps,
                 people: &people,
                 noises: &noises,
+                map_zones: !no_map_zones,
             };
             super::bench_missions::run(runs, seed, max_time, threads, json.as_deref(), &sel)
         }

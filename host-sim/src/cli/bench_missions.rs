@@ -14,6 +14,8 @@ pub struct SuiteSelection<'a> {
     pub maps: &'a [&'static str],
     pub people: &'a [usize],
     pub noises: &'a [host_sim::sim::robot::Noise],
+    /// The maps' own no-go zones and virtual walls kept.
+    pub map_zones: bool,
 }
 
 /// Map names from the command line (`flats`, `homes` or single names).
@@ -59,7 +61,7 @@ pub fn run(
         .max(1);
     let t0 = Instant::now();
     let pb = progress::bar(cases.len(), "missions");
-    let results = run_suite(&cases, max_time, threads, |done, _| {
+    let results = run_suite(&cases, max_time, threads, sel.map_zones, |done, _| {
         pb.set_position(done as u64);
     });
     pb.finish_and_clear();

@@ -37,6 +37,8 @@ fn cmd_demo() -> Result<(), String> {
         capacity: Default::default(),
         pil: None,
         bumper: true,
+        zones: Vec::new(),
+        map_store: Default::default(),
     };
     println!(
         "robovac demo: the firmware's mission executive cleans a 9.6 m × 7.2 m furnished flat"

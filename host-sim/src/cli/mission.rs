@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 
 use super::args::{load_world_map, parse_point, write_file, MapArgs, ModeArg, NoiseArg};
 use super::progress;
+use host_sim::sim::zones::parse_corners;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -72,6 +73,27 @@ pub struct Args {
     /// see is found only by stalling against it.
     #[arg(long)]
     pub no_bumper: bool,
+    /// A no-go zone X0,Y0,X1,Y1 (metres, a rectangle's opposite corners;
+    /// repeat for more), besides the map's own: the body never enters it.
+    #[arg(long = "no-go", value_parser = parse_corners, value_name = "X0,Y0,X1,Y1")]
+    pub no_go: Vec<(f64, f64, f64, f64)>,
+    /// A virtual wall X0,Y0,X1,Y1 (metres, its ends; repeat for more): the
+    /// body never crosses or touches it.
+    #[arg(long, value_parser = parse_corners, value_name = "X0,Y0,X1,Y1")]
+    pub virtual_wall: Vec<(f64, f64, f64, f64)>,
+    /// Leave out the map's own no-go zones and virtual walls (a
+    /// ValetudoMap's), for comparison.
+    #[arg(long)]
+    pub no_map_zones: bool,
+    /// Save the robot's map here when the mission finishes (the map kept
+    /// between runs: the robot's store, as the chip's flash sector holds it).
+    #[arg(long, value_name = "FILE")]
+    pub save_map: Option<PathBuf>,
+    /// Start from the map an earlier run saved: the robot relocalises at
+    /// the dock on it, plans over it from the start and keeps it up to
+    /// date (`--mode` is then ignored; the floor plan is not given).
+    #[arg(long, value_name = "FILE")]
+    pub load_map: Option<PathBuf>,
     /// Whose buffers the executive runs in: the host's, or the firmware's
     /// (`fw`: the chip's capacities, so the figures are the robot's).
     #[arg(long, value_enum, default_value_t)]
@@ -116,6 +138,11 @@ pub fn run(a: Args) -> Result<(), String> {
         home_at,
         no_localize,
         no_bumper,
+        no_go,
+        virtual_wall,
+        no_map_zones,
+        save_map,
+        load_map,
         capacity,
         pil,
         pil_elf,
@@ -138,11 +165,18 @@ pub fn run(a: Args) -> Result<(), String> {
     if !(max_time.is_finite() && max_time > 0.0) {
         return Err("--max-time must be a positive number of seconds".into());
     }
-    let (data, cell_m) = load_world_map(&map)?;
+    let (mut data, cell_m) = load_world_map(&map)?;
+    if no_map_zones {
+        host_sim::sim::zones::drop_map_zones(&mut data);
+    }
     let opts = host_sim::run::mission::MissionOptions {
         map: data,
         cell_m,
-        mode: mode.into(),
+        mode: if load_map.is_some() {
+            robovac::mission::MapMode::Unknown
+        } else {
+            mode.into()
+        },
         people,
         noise: noise.into(),
         seed,
@@ -160,6 +194,14 @@ pub fn run(a: Args) -> Result<(), String> {
         home_s: home_at,
         localize: !no_localize,
         bumper: !no_bumper,
+        zones: zones_of(&no_go, &virtual_wall),
+        map_store: host_sim::run::mission::MapStore {
+            load: load_map
+                .as_deref()
+                .map(host_sim::io::store::MemStore::from_file)
+                .transpose()?,
+            save: save_map.is_some(),
+        },
         firmware_order,
         capacity,
         pil: pil.then_some(host_sim::run::pil::PilOptions {
@@ -167,13 +209,36 @@ pub fn run(a: Args) -> Result<(), String> {
             log: pil_log,
         }),
     };
-    cmd_mission(
+    let trace = cmd_mission(
         &opts,
         &map.map.display().to_string(),
         json.as_deref(),
         svg.as_deref(),
         events,
-    )
+    )?;
+    if let Some(f) = save_map {
+        match trace.saved_map {
+            Some((store, n)) => {
+                std::fs::write(&f, store.written())
+                    .map_err(|e| format!("{}: cannot write: {e}", f.display()))?;
+                println!("  map saved to {} ({n} bytes)", f.display());
+            }
+            None => println!("  map not saved: the mission did not finish"),
+        }
+    }
+    Ok(())
+}
+
+/// The command line's zones, in the core's terms.
+fn zones_of(
+    no_go: &[(f64, f64, f64, f64)],
+    walls: &[(f64, f64, f64, f64)],
+) -> Vec<robovac::grid::Zone> {
+    use host_sim::sim::zones::{no_go_m, wall_m};
+    let boxes = no_go.iter().map(|&(a, b, c, d)| no_go_m(a, b, c, d));
+    boxes
+        .chain(walls.iter().map(|&(a, b, c, d)| wall_m(a, b, c, d)))
+        .collect()
 }
 
 /// Runs one mission with a progress line on a terminal.
@@ -183,7 +248,7 @@ fn cmd_mission(
     json: Option<&Path>,
     svg: Option<&Path>,
     events: bool,
-) -> Result<(), String> {
+) -> Result<host_sim::run::mission::MissionTrace, String> {
     use host_sim::report::mission::{events_json, mission_svg, summary};
     use host_sim::run::mission::{report_json, run_mission};
     let pb = progress::status();
@@ -195,9 +260,13 @@ fn cmd_mission(
     })
     .map_err(|e| format!("{name}: {e}"))?;
     pb.finish_and_clear();
+    let map_kind = match opts.map_store.load {
+        Some(_) => "the saved".to_string(),
+        None => format!("{:?}", opts.mode),
+    };
     println!(
-        "mission on {name} ({:?} map, {} people, seed {}):",
-        opts.mode, opts.people, opts.seed
+        "mission on {name} ({map_kind} map, {} people, seed {}):",
+        opts.people, opts.seed
     );
     println!("  {}", summary(&rep));
     if events {
@@ -222,5 +291,5 @@ fn cmd_mission(
             &mission_svg(&opts.map, opts.cell_m, &floor, &trace, &rep, &title),
         )?;
     }
-    Ok(())
+    Ok(trace)
 }

@@ -30,7 +30,7 @@ pub enum Cmd {
     /// Drive a route with the real wheel controllers and odometry while the lidar maps.
     Drive(drive::Args),
     /// Run a whole cleaning mission: the core's executive in closed loop with the physics.
-    Mission(mission::Args),
+    Mission(Box<mission::Args>),
     /// Benchmarks reproducing the papers' tables.
     Bench {
         #[command(subcommand)]
@@ -47,7 +47,7 @@ pub fn run(cmd: Cmd) -> Result<(), String> {
         Cmd::Plan(a) => plan::run(a),
         Cmd::LidarDecode(a) => lidar::run(a),
         Cmd::Drive(a) => drive::run(a),
-        Cmd::Mission(a) => mission::run(a),
+        Cmd::Mission(a) => mission::run(*a),
         Cmd::Bench { which } => bench::run(which),
     }
 }

@@ -4,4 +4,5 @@
 
 pub mod maps;
 pub mod scen;
+pub mod store;
 pub mod valetudo;

@@ -19,6 +19,12 @@ pub fn events_json(events: &[robovac::mission::Event]) -> serde_json::Value {
 
 /// One line of summary.
 pub fn summary(rep: &MissionReport) -> String {
+    let zones = rep.zones.map_or(String::new(), |z| {
+        format!(
+            " · {} no-go zones/virtual walls: entered {} times, closest {:.0} mm",
+            z.count, z.entries, z.min_gap_mm
+        )
+    });
     format!(
         "finished {} · back at start {} · coverage {:.2} % · repetition {:.2} · collisions {} (people into robot {}) · min clearance {:.3} m · {:.1} m in {:.0} s simulated (ideal {:.0} s, ×{:.2}) · avoidances {} · {:.0}× real time",
         rep.finished,
@@ -34,11 +40,10 @@ pub fn summary(rep: &MissionReport) -> String {
         rep.sim_time_s / rep.ideal_time_s.max(1e-9),
         rep.avoidance_events,
         rep.sim_time_s / rep.wall_time_s.max(1e-9),
-    )
+    ) + &zones
 }
 
-/// What a ValetudoMap adds: the vendor robot's own paths (grey), no-go
-/// areas (red, translucent) and virtual walls (red lines).
+/// What a ValetudoMap adds: the vendor robot's own paths (grey).
 fn map_extras(c: &mut Canvas, map: &MapData) {
     let Some(x) = map.extras.as_ref() else {
         return;
@@ -46,25 +51,40 @@ fn map_extras(c: &mut Canvas, map: &MapData) {
     for p in &x.paths {
         c.polyline(p, 1, r##"stroke="#888" stroke-width="0.8" opacity="0.6""##);
     }
-    for poly in &x.no_go {
-        let pts: Vec<String> = poly
-            .iter()
-            .map(|&p| {
-                let (px, py) = c.px(p);
-                format!("{px:.1},{py:.1}")
-            })
-            .collect();
-        c.raw(&format!(
-            "<polygon points=\"{}\" fill=\"#d62728\" fill-opacity=\"0.25\" stroke=\"#d62728\"/>\n",
-            pts.join(" ")
-        ));
-    }
-    for &(a, b) in &x.virtual_walls {
-        let (a, b) = (c.px(a), c.px(b));
-        c.raw(&format!(
-            "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"#d62728\" stroke-width=\"3\"/>\n",
-            a.0, a.1, b.0, b.1
-        ));
+}
+
+/// The owner's zones (the map's and the command line's): no-go areas red
+/// and translucent, virtual walls as red lines.
+fn zones_svg(c: &mut Canvas, zones: &[robovac::grid::Zone]) {
+    use robovac::grid::Zone;
+    let m = |v: i32| v as f64 / 1000.0;
+    for z in zones {
+        match *z {
+            Zone::NoGo {
+                x0_mm,
+                y0_mm,
+                x1_mm,
+                y1_mm,
+            } => {
+                let (a, b) = (c.px((m(x0_mm), m(y0_mm))), c.px((m(x1_mm), m(y1_mm))));
+                c.raw(&format!(
+                    "<rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\" fill=\"#d62728\" fill-opacity=\"0.25\" stroke=\"#d62728\"/>\n",
+                    a.0.min(b.0), a.1.min(b.1), (a.0 - b.0).abs(), (a.1 - b.1).abs()
+                ));
+            }
+            Zone::Wall {
+                ax_mm,
+                ay_mm,
+                bx_mm,
+                by_mm,
+            } => {
+                let (a, b) = (c.px((m(ax_mm), m(ay_mm))), c.px((m(bx_mm), m(by_mm))));
+                c.raw(&format!(
+                    "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"#d62728\" stroke-width=\"3\"/>\n",
+                    a.0, a.1, b.0, b.1
+                ));
+            }
+        }
     }
 }
 
@@ -111,6 +131,7 @@ pub fn mission_svg(
         );
     }
     map_extras(&mut c, map);
+    zones_svg(&mut c, &t.zones);
     c.polyline(
         &t.truth,
         5,

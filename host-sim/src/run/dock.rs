@@ -6,7 +6,7 @@
 use robovac::mission::MapMode;
 use robovac::robot::odometry::Pose;
 
-use super::mission::MissionOptions;
+use super::mission::{MissionOptions, ZONE_MARGIN_M};
 use crate::sim::world::World;
 
 /// A free spot for the dock near the map's centre (the body plus 5 cm fits).
@@ -18,7 +18,7 @@ pub fn default_start(world: &World, r: f64) -> Option<(f64, f64)> {
     while y < h - r {
         let mut x = r;
         while x < w - r {
-            if !world.disc_hits_wall(x, y, r + 0.05) {
+            if !world.disc_hits_wall(x, y, r + 0.05) && world.zone_intrusion(x, y, r + 0.1) <= 0.0 {
                 let d = (x - w / 2.0).hypot(y - h / 2.0);
                 if best.is_none_or(|(b, _)| d < b) {
                     best = Some((d, (x, y)));
@@ -37,7 +37,8 @@ pub fn default_start(world: &World, r: f64) -> Option<(f64, f64)> {
 /// the seed.
 pub(crate) fn given_dock(opts: &MissionOptions, (x, y, th): (f64, f64, f64)) -> Pose {
     let (mut dx, mut dy, mut dt) = (0.0, 0.0, 0.0);
-    if opts.noise.noisy() && opts.mode == MapMode::Known {
+    let placed = opts.mode == MapMode::Known || opts.map_store.load.is_some();
+    if opts.noise.noisy() && placed {
         let mut rng = robovac::grid::maps::SplitMix64::new(opts.seed ^ 0xD0C);
         dx = crate::sim::robot::in_range(&mut rng, (-0.2, 0.2));
         dy = crate::sim::robot::in_range(&mut rng, (-0.2, 0.2));
@@ -71,6 +72,12 @@ pub(crate) fn place_dock(
     if world.disc_hits_wall(start.0, start.1, r + 0.01) {
         return Err(format!(
             "the start ({:.2}, {:.2}) m is too close to a wall for the robot",
+            start.0, start.1
+        ));
+    }
+    if world.zone_intrusion(start.0, start.1, r + ZONE_MARGIN_M) > 0.0 {
+        return Err(format!(
+            "the dock ({:.2}, {:.2}) m is in or next to a no-go zone or virtual wall",
             start.0, start.1
         ));
     }

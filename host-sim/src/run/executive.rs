@@ -3,6 +3,7 @@
 //! sim link ([`super::pil::Pil`]). The loop, the physics and the
 //! measurements are the same for both.
 
+use crate::io::store::MemStore;
 use robovac::localize::LocStats;
 use robovac::mission::{Bumper, Counters, Event, Mission, MissionParts, MotorCmd, State};
 use robovac::robot::lidar::ParserStats;
@@ -58,6 +59,11 @@ pub trait Executive {
     }
     /// `ROBOVAC_DEBUG_TRACE` output: the grids at the start and end.
     fn debug_grid(&self, _covered: bool) {}
+    /// Saves the executive's map and the dock pose on it (the map kept
+    /// between runs); the bytes written.
+    fn save_map(&mut self, _dock: Pose, _store: &mut MemStore) -> Result<u32, String> {
+        Err("the map is not saved over the sim link yet: run without --pil".into())
+    }
     /// `ROBOVAC_DEBUG_TRACE` output: a collision.
     fn debug_collision(&self, _sim: &Sim) {}
     /// `ROBOVAC_DEBUG_TRACE` output: every simulated second.
@@ -94,6 +100,12 @@ impl Executive for Native<'_> {
         } else {
             self.mission.tick(self.parts, t_us, enc)
         })
+    }
+
+    fn save_map(&mut self, dock: Pose, store: &mut MemStore) -> Result<u32, String> {
+        self.parts
+            .save_map(dock, store)
+            .map_err(|e| format!("map not saved: {e}"))
     }
 
     fn request_home(&mut self) -> Result<(), String> {

@@ -9,14 +9,17 @@ use super::executive::{Executive, Native, Sensors};
 pub use super::report_json::report_json;
 
 use robovac::coverage::PlannerKind;
+use robovac::grid::Zone;
 use robovac::mission::{MapMode, Mission, MissionConfig, MissionParts, MotorCmd, State};
 use robovac::robot::hal::{BumperSwitches, ByteSource, MotorDriver};
 
 use crate::io::maps::MapData;
+use crate::io::store::MemStore;
 use crate::sim::floor::Floor;
 use crate::sim::robot::{Noise, RobotConfig, Sim, MOUNT};
 use crate::sim::scan::fill_prior;
 use crate::sim::world::World;
+use robovac::robot::lidar_map::EvidenceMap;
 
 pub use super::dock::{default_start, docked_pose};
 use super::dock::{given_dock, place_dock};
@@ -75,6 +78,41 @@ pub struct MissionOptions {
     /// comparison: the robot then learns of what its lidar cannot see
     /// only by stalling against it).
     pub bumper: bool,
+    /// No-go zones and virtual walls given besides the map's own (the
+    /// command line's `--no-go` and `--virtual-wall`).
+    pub zones: Vec<Zone>,
+    /// The map kept between runs.
+    pub map_store: MapStore,
+}
+
+/// The map kept between runs: the store a known-mode mission takes its
+/// map from (instead of the floor plan), and whether to save the map at
+/// the end of a finished mission.
+#[derive(Clone, Debug, Default)]
+pub struct MapStore {
+    /// Start from the map saved here (known mode).
+    pub load: Option<MemStore>,
+    /// Save the map when the mission finishes ([`MissionTrace::saved_map`]).
+    pub save: bool,
+}
+
+/// How far the robot keeps from the owner's zones beyond its body, m:
+/// [`robovac::grid::zones::MARGIN_MM`].
+pub const ZONE_MARGIN_M: f64 = robovac::grid::zones::MARGIN_MM as f64 / 1000.0;
+
+/// The owner's zones, measured on the truth (reported only when there
+/// are any).
+#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
+pub struct ZoneFigures {
+    /// No-go zones and virtual walls set.
+    pub count: usize,
+    /// Times the true body entered a no-go zone or touched a virtual wall.
+    pub entries: usize,
+    /// The smallest gap between the true body and a zone, mm (negative:
+    /// how deep it reached into one).
+    pub min_gap_mm: f64,
+    #[serde(skip)]
+    inside: bool,
 }
 
 /// What a mission measured (its JSON: these fields, plus `sim_speed` and
@@ -160,6 +198,9 @@ pub struct MissionReport {
     err_sq: (f64, f64, u64),
     /// Simulated time spent in each state, s.
     pub state_time_s: std::collections::BTreeMap<String, f64>,
+    /// The owner's no-go zones and virtual walls, kept to or not.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub zones: Option<ZoneFigures>,
     /// Processor-in-the-loop: what the firmware measured on itself.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub firmware: Option<super::pil::FirmwareFigures>,
@@ -197,6 +238,10 @@ pub struct MissionTrace {
     pub estimate: Vec<(f64, f64)>,
     /// The kidnap: when (s) and where the robot was put down (m, m, rad).
     pub kidnap: Option<(f64, (f64, f64, f64))>,
+    /// The owner's no-go zones and virtual walls.
+    pub zones: Vec<Zone>,
+    /// The map saved at the end ([`MapStore::save`]), and its bytes.
+    pub saved_map: Option<(MemStore, u32)>,
 }
 
 /// Runs a mission; `progress(sim_s, state, coverage)` is called about
@@ -209,6 +254,8 @@ pub fn run_mission(
     let cfg = RobotConfig::default();
     let r = cfg.diameter_m / 2.0;
     let mut world = World::new(opts.map.clone(), opts.cell_m);
+    world.zones = crate::sim::zones::map_zones(&opts.map);
+    world.zones.extend_from_slice(&opts.zones);
     let (start, dock_heading) = place_dock(opts, &mut world, r)?;
     let heading = opts.start_heading.unwrap_or(dock_heading);
     let pose = (start.0, start.1, heading);
@@ -217,6 +264,12 @@ pub fn run_mission(
     let mut mission = Box::new(Mission::new(mission_config(opts, &cfg, r)));
     let known = opts.mode == MapMode::Known;
     if let Some(pil) = &opts.pil {
+        if !sim.world.zones.is_empty() {
+            return Err(
+                "no-go zones and virtual walls do not cross the sim link yet: run without --pil"
+                    .into(),
+            );
+        }
         let mut fp = FwHostParts::new(opts.kind);
         fill_prior(&mut fp.map, &sim.world, EVIDENCE_MM, known)?;
         let cfg = mission_config(opts, &sim.cfg.clone(), r);
@@ -232,13 +285,13 @@ pub fn run_mission(
     let parts: &mut dyn MissionParts = match opts.capacity {
         Capacity::Host => {
             hp = HostParts::new(opts.kind);
-            fill_prior(&mut hp.map, &sim.world, EVIDENCE_MM, known)?;
+            prepare_map(&mut hp.map, &sim.world, opts)?;
             host = hp.parts();
             &mut host
         }
         Capacity::Fw => {
             fp = FwHostParts::new(opts.kind);
-            fill_prior(&mut fp.map, &sim.world, EVIDENCE_MM, known)?;
+            prepare_map(&mut fp.map, &sim.world, opts)?;
             fw = fp.parts();
             &mut fw
         }
@@ -251,6 +304,37 @@ pub fn run_mission(
     let (mut rep, trace) = drive(opts, &mut sim, &mut floor, &mut exec, pose, progress)?;
     rep.wall_time_s = t0.elapsed().as_secs_f64();
     Ok((rep, trace, floor))
+}
+
+/// The executive's map before it begins: sized to the world; in known
+/// mode the floor plan, or the map saved by an earlier run
+/// ([`MapStore::load`]); then the owner's zones, with the core's margin.
+fn prepare_map<const B: usize>(
+    map: &mut EvidenceMap<B>,
+    world: &World,
+    opts: &MissionOptions,
+) -> Result<(), String> {
+    let known = opts.mode == MapMode::Known;
+    fill_prior(
+        map,
+        world,
+        EVIDENCE_MM,
+        known && opts.map_store.load.is_none(),
+    )?;
+    if let Some(store) = &opts.map_store.load {
+        let size = (map.width(), map.height(), map.res_mm());
+        robovac::robot::map_image::load(&mut store.clone(), map)
+            .map_err(|e| format!("saved map: {e}"))?;
+        let got = (map.width(), map.height(), map.res_mm());
+        if got != size {
+            return Err(format!(
+                "the saved map ({}x{} cells of {} mm) is not of this home ({}x{} of {} mm)",
+                got.0, got.1, got.2, size.0, size.1, size.2
+            ));
+        }
+    }
+    map.set_zones(&world.zones, robovac::grid::zones::MARGIN_MM)
+        .map_err(|e| e.to_string())
 }
 
 /// The mission's loop with the executive given, until it ends or time is
@@ -269,12 +353,18 @@ pub(crate) fn drive(
     mission.begin(given_dock(opts, pose))?;
     mission.debug_grid(false);
     let mut rep = MissionReport {
+        zones: (!sim.world.zones.is_empty()).then(|| ZoneFigures {
+            count: sim.world.zones.len(),
+            min_gap_mm: f64::INFINITY,
+            ..Default::default()
+        }),
         min_clearance_m: f64::INFINITY,
         min_wall_clearance_m: f64::INFINITY,
         ..Default::default()
     };
     let mut trace = MissionTrace {
         start,
+        zones: sim.world.zones.clone(),
         ..Default::default()
     };
     let max_us = (opts.max_time_s * 1e6) as u64;
@@ -312,6 +402,11 @@ pub(crate) fn drive(
     }
     progress(sim.t_us as f64 * 1e-6, mission.state(), floor.coverage());
     mission.end()?;
+    if opts.map_store.save && mission.finished() {
+        let mut store = MemStore::erased();
+        let n = mission.save_map(given_dock(opts, pose), &mut store)?;
+        trace.saved_map = Some((store, n));
+    }
     mission.debug_grid(true);
     finish_report(&mut rep, mission, sim, floor, pose, &cfg);
     trace.truth = std::mem::take(&mut sim.trajectory);
@@ -335,6 +430,7 @@ fn mission_config(opts: &MissionOptions, cfg: &RobotConfig, r: f64) -> MissionCo
     let mut mcfg = MissionConfig::new(opts.mode, cfg.geometry(), cfg.gains, MOUNT);
     mcfg.kind = opts.kind;
     mcfg.localize = opts.localize;
+    mcfg.prior_saved = opts.map_store.load.is_some();
     mcfg.radius_mm = (r * 1000.0).round() as i32;
     if opts.noise.noisy() {
         mcfg = mcfg.with_lidar_noise((cfg.lidar_noise_m * 1000.0).round() as i32);
@@ -419,6 +515,12 @@ fn measure(
         .map(|p| (p.pos.0 - x).hypot(p.pos.1 - y) - p.radius_m - r)
         .fold(f64::INFINITY, f64::min);
     rep.min_clearance_m = rep.min_clearance_m.min(wall.min(person));
+    if let Some(z) = rep.zones.as_mut() {
+        let deep = sim.world.zone_intrusion(x, y, r);
+        z.entries += (deep > 0.0 && !z.inside) as usize;
+        z.inside = deep > 0.0;
+        z.min_gap_mm = z.min_gap_mm.min(-deep * 1000.0);
+    }
     let c = mission.counters();
     if c.avoidance_events as usize > trace.avoidances.len() {
         trace.avoidances.push((x, y));

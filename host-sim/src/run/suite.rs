@@ -111,20 +111,24 @@ pub fn suite_cases(
     v
 }
 
-/// Runs the suite on a rayon pool of `threads` threads; `progress(done,
-/// total)` after each
-/// mission. Results in case order.
+/// Runs the suite on a rayon pool of `threads` threads, with the maps'
+/// own no-go zones and virtual walls when `map_zones`; `progress(done,
+/// total)` after each mission. Results in case order.
 pub fn run_suite(
     cases: &[SuiteCase],
     max_time_s: f64,
     threads: usize,
+    map_zones: bool,
     progress: impl Fn(usize, usize) + Sync,
 ) -> Vec<Result<MissionReport, String>> {
     use rayon::prelude::*;
     use std::sync::atomic::{AtomicUsize, Ordering};
     let done = AtomicUsize::new(0);
     let run_one = |c: &SuiteCase| {
-        let r = suite_map(c.map).and_then(|map| {
+        let r = suite_map(c.map).and_then(|mut map| {
+            if !map_zones {
+                crate::sim::zones::drop_map_zones(&mut map);
+            }
             let opts = MissionOptions {
                 cell_m: map.cell_m.unwrap_or(0.1),
                 map,
@@ -145,6 +149,8 @@ pub fn run_suite(
                 capacity: Default::default(),
                 pil: None,
                 bumper: true,
+                zones: Vec::new(),
+                map_store: Default::default(),
             };
             run_mission(&opts, |_, _, _| {}).map(|(rep, _, _)| rep)
         });

@@ -1,7 +1,7 @@
 //! Floor coverage measured on the ground truth at fine resolution: the
 //! reachable floor is every point the robot's body can reach (discs of the
-//! body's radius around every centre position with clearance, connected to
-//! the start); the swept floor is the union of the body's disc along the
+//! body's radius around every centre position with clearance, clear of the
+//! owner's no-go zones and virtual walls, connected to the start); the swept floor is the union of the body's disc along the
 //! true trajectory (the cleaning width is the body's width).
 
 use crate::sim::world::World;
@@ -33,7 +33,7 @@ impl Floor {
         let ok: Vec<bool> = (0..w * h)
             .map(|i| {
                 let (x, y) = centre(i);
-                !world.disc_hits_wall(x, y, radius_m)
+                !world.disc_hits_wall(x, y, radius_m) && world.zone_intrusion(x, y, radius_m) <= 0.0
             })
             .collect();
         let mut reach = vec![false; w * h];

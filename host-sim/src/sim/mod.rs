@@ -6,3 +6,4 @@ pub mod floor;
 pub mod robot;
 pub mod scan;
 pub mod world;
+pub mod zones;

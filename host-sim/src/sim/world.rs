@@ -56,6 +56,9 @@ pub struct World {
     /// Blocked cells of a glass door or mirror: rays pass through and
     /// return from beyond (harsh floors). The body still cannot.
     pub glass: std::collections::HashSet<(i32, i32)>,
+    /// The owner's no-go zones and virtual walls (the map's own and the
+    /// command line's): rules the body keeps to, nothing the lidar sees.
+    pub zones: Vec<robovac::grid::Zone>,
 }
 
 impl World {
@@ -67,7 +70,14 @@ impl World {
             people: Vec::new(),
             dark: Default::default(),
             glass: Default::default(),
+            zones: Vec::new(),
         }
+    }
+
+    /// How far (m) a disc of radius `r` at (x, y) reaches into the
+    /// deepest zone; at most 0 when it is clear of all (or there are none).
+    pub fn zone_intrusion(&self, x: f64, y: f64, r: f64) -> f64 {
+        crate::sim::zones::deepest_m(&self.zones, x, y, r).unwrap_or(f64::NEG_INFINITY)
     }
 
     /// Harsh floors: three pieces of dark furniture (the blocked cells
