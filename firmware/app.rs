@@ -45,16 +45,21 @@
 //! mission, a later one sends the robot home
 //! ([`Mission::request_home`]). Unknown mode, at the centre of a
 //! 12 × 12 m map (so a home may reach 6 m from the dock each way; the map
-//! does not move). Logged: every event, and every [`STATUS_US`] the
+//! does not move). **The map kept between runs:** once a mission is done
+//! (docked), the map and the dock's pose on it are saved to flash sector 7
+//! ([`FlashStore`]; the erase stalls the CPU up to 2 s, so control first
+//! stretches the watchdog to [`ERASE_WATCHDOG_MS`]); at the next boot the
+//! mission starts from that map at its dock and relocalises there
+//! (`prior_saved`). A damaged map is logged and a fresh one begun. Logged: every event, and every [`STATUS_US`] the
 //! state, pose, coverage (planning cells cleaned, the robot's own count),
 //! battery, worst task costs in cycles and the stack's high-water mark.
 
 use super::board::{
-    battery::Battery, bumper::Switches, clock, encoders, lidar_dma::LidarDma, motors::Motors,
-    ticker, watchdog, wiring,
+    battery::Battery, bumper::Switches, clock, encoders, flash_store::FlashStore,
+    lidar_dma::LidarDma, motors::Motors, ticker, watchdog, wiring,
 };
 use super::status::{self, STATUS_US};
-use core::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+use core::sync::atomic::{AtomicBool, AtomicU32, AtomicU8, Ordering};
 use robovac::capacity::FwParts;
 use robovac::mission::{Mission, Reflex};
 
@@ -83,6 +88,21 @@ static CONTROL_OWED: AtomicBool = AtomicBool::new(false);
 static LIDAR_OWED: AtomicBool = AtomicBool::new(false);
 /// The button was pressed (control debounces it; idle acts on it).
 static BUTTON: AtomicBool = AtomicBool::new(false);
+/// Saving the map at the end ([`save_step`]): idle asks, control
+/// stretches the watchdog over the flash erase's stall, idle saves,
+/// control sets the watchdog back.
+static SAVE: AtomicU8 = AtomicU8::new(save::NONE);
+
+/// The steps of [`SAVE`].
+mod save {
+    pub const NONE: u8 = 0;
+    pub const ASKED: u8 = 1;
+    pub const STRETCHED: u8 = 2;
+    pub const SAVED: u8 = 3;
+    pub const OVER: u8 = 4;
+}
+/// The watchdog's timeout while the store's sector erases (up to 2 s).
+const ERASE_WATCHDOG_MS: u32 = 4_000;
 
 /// Runs `f` on the executive, unless another task holds it (`None`);
 /// then runs the control period and lidar event owed meanwhile.
@@ -137,6 +157,8 @@ mod app {
         right: encoders::RightEncoder,
         watchdog: watchdog::Watchdog,
         battery: Battery,
+        store: FlashStore,
+        saved_dock: Option<Pose>,
         button: wiring::ButtonPin,
         bumper: Switches,
     }
@@ -218,10 +240,8 @@ mod app {
             path: &mut l.path[..],
             matcher: l.matcher,
         };
-        let side = FW_HOME_SIDE as u32;
-        if parts.map.reset(side, side, MAP_RES_MM).is_err() {
-            defmt::error!("the map does not fit its buffer");
-        }
+        let mut store = FlashStore::new(dp.FLASH);
+        let saved_dock = load_map(&mut store, l.mission, parts.map);
         defmt::info!("press the button (B1) to start; press it again to send the robot home");
         if let Some(mut exec) = EXEC.try_lock() {
             *exec = Some(Exec {
@@ -240,6 +260,8 @@ mod app {
                 right,
                 watchdog,
                 battery,
+                store,
+                saved_dock,
                 button,
                 bumper,
             },
@@ -287,6 +309,17 @@ mod app {
             MotorCmd::Duty(l, r) if planner_alive => cx.local.motors.set_duty(l, r),
             _ => cx.local.motors.brake(),
         }
+        match SAVE.load(Ordering::Relaxed) {
+            save::ASKED => {
+                cx.local.watchdog.set_timeout_ms(ERASE_WATCHDOG_MS);
+                SAVE.store(save::STRETCHED, Ordering::Relaxed);
+            }
+            save::SAVED => {
+                cx.local.watchdog.set_timeout_ms(watchdog::TIMEOUT_MS);
+                SAVE.store(save::OVER, Ordering::Relaxed);
+            }
+            _ => {}
+        }
         if feed {
             cx.local.watchdog.feed();
         }
@@ -319,14 +352,17 @@ mod app {
     /// Idle holds the executive only between its own steps' ends, so its
     /// try-lock never finds it held (every task that takes it preempts
     /// idle and lets go before idle resumes).
-    #[idle(local = [battery])]
+    #[idle(local = [battery, store, saved_dock])]
     fn idle(cx: idle::Context) -> ! {
         let mut next_status = STATUS_US;
         let mut begun = false;
         loop {
             let now = ticker::now_us();
             if BUTTON.swap(false, Ordering::Relaxed) {
-                begun |= on_button(begun, now);
+                begun |= on_button(begun, now, *cx.local.saved_dock);
+            }
+            if begun {
+                save_step(cx.local.store);
             }
             let t0 = DWT::cycle_count();
             let planned = with_exec(|e| {
@@ -356,26 +392,83 @@ mod app {
     /// The button: the first press begins the mission (the robot stands
     /// braked until then), a later one sends the robot home. True when
     /// the mission has begun.
-    fn on_button(begun: bool, now: u64) -> bool {
+    fn on_button(begun: bool, now: u64, saved_dock: Option<Pose>) -> bool {
         if begun {
             defmt::info!("button: going home");
             with_exec(|e| e.mission.request_home());
             return true;
         }
         let half_mm = (FW_HOME_SIDE as u32 * MAP_RES_MM / 2) as i32;
-        let dock = Pose {
+        let dock = saved_dock.unwrap_or(Pose {
             x_mm: half_mm,
             y_mm: half_mm,
             theta_mrad: 0,
-        };
+        });
         let ok = with_exec(|e| e.mission.begin(&mut e.parts, dock)).is_some();
         defmt::info!(
             "button: mission begins at ({}, {}) mm, t {} us",
-            half_mm,
-            half_mm,
+            dock.x_mm,
+            dock.y_mm,
             now
         );
         ok
+    }
+
+    /// At boot: the map a finished run saved, when the store holds one
+    /// (the mission then starts from it, at its dock, relocalising there);
+    /// else an empty 12 × 12 m map with the dock at its centre.
+    fn load_map(
+        store: &mut FlashStore,
+        mission: &mut Mission,
+        map: &mut FwEvidence,
+    ) -> Option<Pose> {
+        match robovac::robot::map_image::load(store, map) {
+            Ok(dock) => {
+                let mut cfg = wiring::MISSION;
+                cfg.prior_saved = true;
+                mission.configure(cfg);
+                defmt::info!(
+                    "saved map loaded: {}x{} cells, dock at ({}, {}) mm",
+                    map.width(),
+                    map.height(),
+                    dock.x_mm,
+                    dock.y_mm
+                );
+                return Some(dock);
+            }
+            Err(robovac::robot::map_image::MapImageError::NoMap) => {}
+            Err(e) => status::map_store("saved map refused", &e),
+        }
+        let side = FW_HOME_SIDE as u32;
+        if map.reset(side, side, MAP_RES_MM).is_err() {
+            defmt::error!("the map does not fit its buffer");
+        }
+        None
+    }
+
+    /// Once the mission is done (docked, motors braked): save the map for
+    /// the next run, the watchdog stretched by control over the erase.
+    fn save_step(store: &mut FlashStore) {
+        match SAVE.load(Ordering::Relaxed) {
+            save::NONE => {
+                let done = with_exec(|e| e.mission.state() == robovac::mission::State::Done);
+                if done == Some(true) {
+                    SAVE.store(save::ASKED, Ordering::Relaxed);
+                }
+            }
+            save::STRETCHED => {
+                let r = with_exec(|e| {
+                    robovac::robot::map_image::save(e.parts.map, e.mission.dock(), store)
+                });
+                match r {
+                    Some(Ok(n)) => defmt::info!("map saved for the next run: {} bytes", n),
+                    Some(Err(e)) => status::map_store("map not saved", &e),
+                    None => return,
+                }
+                SAVE.store(save::SAVED, Ordering::Relaxed);
+            }
+            _ => {}
+        }
     }
 
     /// Drains the lidar's ring into the executive; when another task

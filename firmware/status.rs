@@ -37,3 +37,13 @@ pub fn status(now_us: u64, m: &Mission, coarse: &FwPlanGrid) {
         pct_x10 % 10
     );
 }
+
+/// A saved map that could not be loaded or saved, as a log line (the
+/// robot's store; the sim-link board has none).
+#[cfg(not(feature = "pil"))]
+pub fn map_store(what: &str, e: &robovac::robot::map_image::MapImageError) {
+    #[cfg(feature = "defmt")]
+    defmt::warn!("{}: {}", what, e);
+    #[cfg(not(feature = "defmt"))]
+    defmt::warn!("{}: {}", what, defmt::Debug2Format(e));
+}

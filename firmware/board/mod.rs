@@ -10,6 +10,8 @@ pub mod clock;
 #[cfg(not(feature = "pil"))]
 pub mod encoders;
 #[cfg(not(feature = "pil"))]
+pub mod flash_store;
+#[cfg(not(feature = "pil"))]
 pub mod lidar_dma;
 #[cfg(not(feature = "pil"))]
 pub mod motors;

@@ -36,6 +36,19 @@ impl Watchdog {
         Self(iwdg)
     }
 
+    /// Sets the timeout to `ms` (at most 4,095 ms) and reloads: stretched
+    /// while a flash sector erases (the CPU stalls up to 2 s), then set
+    /// back to [`TIMEOUT_MS`].
+    pub fn set_timeout_ms(&mut self, ms: u32) {
+        let reload = (ms * (LSI_HZ / 32) / 1000).clamp(1, 0x0FFF);
+        self.0.kr().write(|w| unsafe { w.key().bits(0x5555) });
+        self.0.pr().write(|w| unsafe { w.pr().bits(PR_DIV32) });
+        self.0
+            .rlr()
+            .write(|w| unsafe { w.rl().bits(reload as u16) });
+        self.0.kr().write(|w| unsafe { w.key().bits(0xAAAA) });
+    }
+
     /// Reloads the counter.
     pub fn feed(&mut self) {
         self.0.kr().write(|w| unsafe { w.key().bits(0xAAAA) });

@@ -549,6 +549,12 @@ impl Mission {
         }
     }
 
+    /// Where the mission began (the dock), as the start's relocalisation
+    /// left it: what a saved map keeps ([`crate::robot::map_image`]).
+    pub fn dock(&self) -> Pose {
+        self.start
+    }
+
     /// True once the mission is over (done or failed).
     pub fn finished(&self) -> bool {
         matches!(self.phase, Phase::Done | Phase::Failed(_))
