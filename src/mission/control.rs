@@ -177,7 +177,7 @@ impl Mission {
         match self.phase {
             Phase::SelfTestWheels { .. } => return (0, 800),
             Phase::Align => return self.align(pose),
-            Phase::Cover | Phase::Edge | Phase::ReturnSearch | Phase::Return => {}
+            p if p.driving() => {}
             _ => return (0, 0),
         }
         match self.activity {
@@ -213,10 +213,7 @@ impl Mission {
     /// and hand the contact to the planner (which marks the spot when the
     /// lidar sees nothing there, then plans the leg again).
     fn bumped(&mut self, now_us: u64, pose: &Pose) -> bool {
-        let driving = matches!(
-            self.phase,
-            Phase::Cover | Phase::Edge | Phase::ReturnSearch | Phase::Return
-        );
+        let driving = self.phase.driving();
         let backing = matches!(self.activity, Activity::BackOff { .. });
         if !self.bumper.pressed() || !driving || backing {
             return false;

@@ -167,6 +167,17 @@ enum Phase {
     Failed(Fault),
 }
 
+impl Phase {
+    /// The robot drives a path: covering, along the edges, or home. What
+    /// a bump, a guard's hold and a relocalisation interrupt.
+    fn driving(self) -> bool {
+        matches!(
+            self,
+            Phase::Cover | Phase::Edge | Phase::ReturnSearch | Phase::Return
+        )
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Activity {
     Follow,

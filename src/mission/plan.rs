@@ -55,16 +55,14 @@ sized_impl!([] {
             return;
         }
         self.guard_hold(now_us, pose);
-        if core::mem::take(&mut self.m.relocated) && self.m.activity == Activity::Follow {
-            // Relocalised after a kidnap: the leg ahead starts elsewhere.
-            if matches!(self.m.phase, Phase::Cover | Phase::Edge | Phase::Return | Phase::ReturnSearch) {
-                self.replan_leg(now_us, pose);
-            }
-        }
-        if self.m.bump_replan && self.m.activity == Activity::Follow {
-            // Backed off from a bump: the leg ahead ran into it.
-            self.m.bump_replan = false;
-            if matches!(self.m.phase, Phase::Cover | Phase::Edge | Phase::Return | Phase::ReturnSearch) {
+        // Relocalised after a kidnap (the leg ahead starts elsewhere), or
+        // backed off from a bump (the leg ahead ran into it): plan the leg
+        // again once following.
+        let following = self.m.activity == Activity::Follow;
+        let relocated = core::mem::take(&mut self.m.relocated) && following;
+        let bumped = following && core::mem::take(&mut self.m.bump_replan);
+        for due in [relocated, bumped] {
+            if due && self.m.phase.driving() {
                 self.replan_leg(now_us, pose);
             }
         }
@@ -111,10 +109,7 @@ sized_impl!([] {
     /// across it: plan the leg again.
     fn guard_hold(&mut self, now_us: u64, pose: &Pose) {
         let m = &mut *self.m;
-        let driving = matches!(
-            m.phase,
-            Phase::Cover | Phase::Edge | Phase::ReturnSearch | Phase::Return
-        );
+        let driving = m.phase.driving();
         let held = m
             .guard_block_since
             .is_some_and(|t| now_us.saturating_sub(t) > 1_000_000);

@@ -300,8 +300,9 @@ impl Sim {
     }
 
     /// Lifts the robot and puts it down 1–3 m away, at a heading at least
-    /// 45° from its own, on a free spot (the wheels and encoders notice
-    /// nothing). Returns where, or `None` when no spot was found.
+    /// 45° from its own, on a free spot clear of the owner's zones (the wheels
+    /// and encoders notice nothing). Returns where, or `None` when no spot
+    /// was found.
     pub fn kidnap(&mut self) -> Option<(f64, f64, f64)> {
         let r = self.cfg.diameter_m / 2.0;
         let (x, y, th) = self.pose;
@@ -311,6 +312,7 @@ impl Sim {
             let (nx, ny) = (x + d * a.cos(), y + d * a.sin());
             let turn = signed_in(&mut self.rng, (0.8, 3.1));
             let free = !self.world.disc_hits_wall(nx, ny, r + 0.1)
+                && self.world.zone_intrusion(nx, ny, r + 0.1) <= 0.0
                 && self
                     .world
                     .people
