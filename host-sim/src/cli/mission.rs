@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 
 use super::args::{load_world_map, parse_point, write_file, MapArgs, ModeArg, NoiseArg};
 use super::progress;
+use host_sim::run::mission::{MissionOptions, MissionTrace};
 use host_sim::sim::zones::parse_corners;
 
 #[derive(clap::Args)]
@@ -117,114 +118,100 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<(), String> {
-    let Args {
-        map,
-        mode,
-        people,
-        noise,
-        seed,
-        max_time,
-        start,
-        planner,
-        lidar_gap,
-        lidar_garbage,
-        lidar_overrun,
-        link_garbage,
-        json,
-        svg,
-        events,
-        firmware_order,
-        kidnap,
-        home_at,
-        no_localize,
-        no_bumper,
-        no_go,
-        virtual_wall,
-        no_map_zones,
-        save_map,
-        load_map,
-        capacity,
-        pil,
-        pil_elf,
-        pil_log,
-    } = a;
-    if pil && !pil_elf.is_file() {
-        return Err(format!(
-            "--pil: no firmware image at {} (build it with scripts/pil.sh)",
-            pil_elf.display()
-        ));
+    let opts = options(&a)?;
+    let trace = cmd_mission(
+        &opts,
+        &a.map.map.display().to_string(),
+        a.json.as_deref(),
+        a.svg.as_deref(),
+        a.events,
+    )?;
+    match &a.save_map {
+        Some(f) => save_map_file(f, trace),
+        None => Ok(()),
     }
-    if kidnap.is_some_and(|t| !(t.is_finite() && t >= 0.0)) {
-        return Err("--kidnap must be a time in seconds, 0 or more".into());
-    }
-    if home_at.is_some_and(|t| !(t.is_finite() && t >= 0.0)) {
-        return Err("--home-at must be a time in seconds, 0 or more".into());
-    }
-    let kind = host_sim::run::plan::planner_by_name(&planner)
-        .ok_or_else(|| format!("unknown planner {planner:?}"))?;
-    if !(max_time.is_finite() && max_time > 0.0) {
+}
+
+/// The command line, checked, as the mission's options.
+fn options(a: &Args) -> Result<MissionOptions, String> {
+    check_times(a)?;
+    let kind = host_sim::run::plan::planner_by_name(&a.planner)
+        .ok_or_else(|| format!("unknown planner {:?}", a.planner))?;
+    if !(a.max_time.is_finite() && a.max_time > 0.0) {
         return Err("--max-time must be a positive number of seconds".into());
     }
-    let (mut data, cell_m) = load_world_map(&map)?;
-    if no_map_zones {
+    let (mut data, cell_m) = load_world_map(&a.map)?;
+    if a.no_map_zones {
         host_sim::sim::zones::drop_map_zones(&mut data);
     }
-    let opts = host_sim::run::mission::MissionOptions {
+    Ok(MissionOptions {
         map: data,
         cell_m,
-        mode: if load_map.is_some() {
-            robovac::mission::MapMode::Unknown
-        } else {
-            mode.into()
+        mode: match a.load_map {
+            Some(_) => robovac::mission::MapMode::Unknown,
+            None => a.mode.into(),
         },
-        people,
-        noise: noise.into(),
-        seed,
-        max_time_s: max_time,
-        start,
+        people: a.people,
+        noise: a.noise.into(),
+        seed: a.seed,
+        max_time_s: a.max_time,
+        start: a.start,
         kind,
-        lidar_gap_s: lidar_gap,
+        lidar_gap_s: a.lidar_gap,
         faults: host_sim::run::inject::Faults {
-            lidar_garbage_s: lidar_garbage,
-            lidar_overrun_s: lidar_overrun,
-            link_garbage_s: link_garbage,
+            lidar_garbage_s: a.lidar_garbage,
+            lidar_overrun_s: a.lidar_overrun,
+            link_garbage_s: a.link_garbage,
         },
         start_heading: None,
-        kidnap_s: kidnap,
-        home_s: home_at,
-        localize: !no_localize,
-        bumper: !no_bumper,
-        zones: zones_of(&no_go, &virtual_wall),
+        kidnap_s: a.kidnap,
+        home_s: a.home_at,
+        localize: !a.no_localize,
+        bumper: !a.no_bumper,
+        zones: zones_of(&a.no_go, &a.virtual_wall),
         map_store: host_sim::run::mission::MapStore {
-            load: load_map
+            load: a
+                .load_map
                 .as_deref()
                 .map(host_sim::io::store::MemStore::from_file)
                 .transpose()?,
-            save: save_map.is_some(),
+            save: a.save_map.is_some(),
         },
-        firmware_order,
-        capacity,
-        pil: pil.then_some(host_sim::run::pil::PilOptions {
-            elf: pil_elf,
-            log: pil_log,
+        firmware_order: a.firmware_order,
+        capacity: a.capacity,
+        pil: a.pil.then(|| host_sim::run::pil::PilOptions {
+            elf: a.pil_elf.clone(),
+            log: a.pil_log.clone(),
         }),
-    };
-    let trace = cmd_mission(
-        &opts,
-        &map.map.display().to_string(),
-        json.as_deref(),
-        svg.as_deref(),
-        events,
-    )?;
-    if let Some(f) = save_map {
-        match trace.saved_map {
-            Some((store, n)) => {
-                std::fs::write(&f, store.written())
-                    .map_err(|e| format!("{}: cannot write: {e}", f.display()))?;
-                println!("  map saved to {} ({n} bytes)", f.display());
-            }
-            None => println!("  map not saved: the mission did not finish"),
+    })
+}
+
+/// The firmware image for `--pil` exists, and the event times are times.
+fn check_times(a: &Args) -> Result<(), String> {
+    if a.pil && !a.pil_elf.is_file() {
+        return Err(format!(
+            "--pil: no firmware image at {} (build it with scripts/pil.sh)",
+            a.pil_elf.display()
+        ));
+    }
+    if a.kidnap.is_some_and(|t| !(t.is_finite() && t >= 0.0)) {
+        return Err("--kidnap must be a time in seconds, 0 or more".into());
+    }
+    if a.home_at.is_some_and(|t| !(t.is_finite() && t >= 0.0)) {
+        return Err("--home-at must be a time in seconds, 0 or more".into());
+    }
+    Ok(())
+}
+
+/// Writes the map the mission saved (`--save-map`) to `f`.
+fn save_map_file(f: &Path, trace: MissionTrace) -> Result<(), String> {
+    match trace.saved_map {
+        Some((store, n)) => {
+            std::fs::write(f, store.written())
+                .map_err(|e| format!("{}: cannot write: {e}", f.display()))?;
+            println!("  map saved to {} ({n} bytes)", f.display());
         }
+        None => println!("  map not saved: the mission did not finish"),
     }
     Ok(())
 }
@@ -243,12 +230,12 @@ fn zones_of(
 
 /// Runs one mission with a progress line on a terminal.
 fn cmd_mission(
-    opts: &host_sim::run::mission::MissionOptions,
+    opts: &MissionOptions,
     name: &str,
     json: Option<&Path>,
     svg: Option<&Path>,
     events: bool,
-) -> Result<host_sim::run::mission::MissionTrace, String> {
+) -> Result<MissionTrace, String> {
     use host_sim::report::mission::{events_json, mission_svg, summary};
     use host_sim::run::mission::{report_json, run_mission};
     let pb = progress::status();

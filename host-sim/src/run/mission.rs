@@ -19,10 +19,11 @@ use crate::sim::floor::Floor;
 use crate::sim::robot::{Noise, RobotConfig, Sim, MOUNT};
 use crate::sim::scan::fill_prior;
 use crate::sim::world::World;
-use robovac::robot::lidar_map::EvidenceMap;
 
 pub use super::dock::{default_start, docked_pose};
 use super::dock::{given_dock, place_dock};
+use super::mission_map::prepare_map;
+pub use super::mission_map::{MapStore, ZoneFigures, ZONE_MARGIN_M};
 pub use super::parts::Capacity;
 use super::parts::{FwHostParts, HostParts};
 
@@ -83,36 +84,6 @@ pub struct MissionOptions {
     pub zones: Vec<Zone>,
     /// The map kept between runs.
     pub map_store: MapStore,
-}
-
-/// The map kept between runs: the store a known-mode mission takes its
-/// map from (instead of the floor plan), and whether to save the map at
-/// the end of a finished mission.
-#[derive(Clone, Debug, Default)]
-pub struct MapStore {
-    /// Start from the map saved here (known mode).
-    pub load: Option<MemStore>,
-    /// Save the map when the mission finishes ([`MissionTrace::saved_map`]).
-    pub save: bool,
-}
-
-/// How far the robot keeps from the owner's zones beyond its body, m:
-/// [`robovac::grid::zones::MARGIN_MM`].
-pub const ZONE_MARGIN_M: f64 = robovac::grid::zones::MARGIN_MM as f64 / 1000.0;
-
-/// The owner's zones, measured on the truth (reported only when there
-/// are any).
-#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
-pub struct ZoneFigures {
-    /// No-go zones and virtual walls set.
-    pub count: usize,
-    /// Times the true body entered a no-go zone or touched a virtual wall.
-    pub entries: usize,
-    /// The smallest gap between the true body and a zone, mm (negative:
-    /// how deep it reached into one).
-    pub min_gap_mm: f64,
-    #[serde(skip)]
-    inside: bool,
 }
 
 /// What a mission measured (its JSON: these fields, plus `sim_speed` and
@@ -306,37 +277,6 @@ pub fn run_mission(
     Ok((rep, trace, floor))
 }
 
-/// The executive's map before it begins: sized to the world; in known
-/// mode the floor plan, or the map saved by an earlier run
-/// ([`MapStore::load`]); then the owner's zones, with the core's margin.
-fn prepare_map<const B: usize>(
-    map: &mut EvidenceMap<B>,
-    world: &World,
-    opts: &MissionOptions,
-) -> Result<(), String> {
-    let known = opts.mode == MapMode::Known;
-    fill_prior(
-        map,
-        world,
-        EVIDENCE_MM,
-        known && opts.map_store.load.is_none(),
-    )?;
-    if let Some(store) = &opts.map_store.load {
-        let size = (map.width(), map.height(), map.res_mm());
-        robovac::robot::map_image::load(&mut store.clone(), map)
-            .map_err(|e| format!("saved map: {e}"))?;
-        let got = (map.width(), map.height(), map.res_mm());
-        if got != size {
-            return Err(format!(
-                "the saved map ({}x{} cells of {} mm) is not of this home ({}x{} of {} mm)",
-                got.0, got.1, got.2, size.0, size.1, size.2
-            ));
-        }
-    }
-    map.set_zones(&world.zones, robovac::grid::zones::MARGIN_MM)
-        .map_err(|e| e.to_string())
-}
-
 /// The mission's loop with the executive given, until it ends or time is
 /// up.
 pub(crate) fn drive(
@@ -353,11 +293,7 @@ pub(crate) fn drive(
     mission.begin(given_dock(opts, pose))?;
     mission.debug_grid(false);
     let mut rep = MissionReport {
-        zones: (!sim.world.zones.is_empty()).then(|| ZoneFigures {
-            count: sim.world.zones.len(),
-            min_gap_mm: f64::INFINITY,
-            ..Default::default()
-        }),
+        zones: ZoneFigures::of(&sim.world.zones),
         min_clearance_m: f64::INFINITY,
         min_wall_clearance_m: f64::INFINITY,
         ..Default::default()
@@ -516,10 +452,7 @@ fn measure(
         .fold(f64::INFINITY, f64::min);
     rep.min_clearance_m = rep.min_clearance_m.min(wall.min(person));
     if let Some(z) = rep.zones.as_mut() {
-        let deep = sim.world.zone_intrusion(x, y, r);
-        z.entries += (deep > 0.0 && !z.inside) as usize;
-        z.inside = deep > 0.0;
-        z.min_gap_mm = z.min_gap_mm.min(-deep * 1000.0);
+        z.note(sim.world.zone_intrusion(x, y, r));
     }
     let c = mission.counters();
     if c.avoidance_events as usize > trace.avoidances.len() {

@@ -8,6 +8,7 @@ pub mod executive;
 pub mod inject;
 pub mod mission;
 pub mod mission_debug;
+pub mod mission_map;
 pub mod parts;
 pub mod pil;
 pub mod plan;

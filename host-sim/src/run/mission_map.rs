@@ -1,0 +1,92 @@
+//! A mission's map before it begins, and the owner's rules on it: the
+//! map kept between runs (loaded from a store, saved at the end) and the
+//! no-go zones and virtual walls, measured on the truth.
+
+use robovac::grid::Zone;
+use robovac::mission::MapMode;
+use robovac::robot::lidar_map::EvidenceMap;
+
+use super::mission::{MissionOptions, EVIDENCE_MM};
+use crate::io::store::MemStore;
+use crate::sim::scan::fill_prior;
+use crate::sim::world::World;
+
+/// The map kept between runs: the store a known-mode mission takes its
+/// map from (instead of the floor plan), and whether to save the map at
+/// the end of a finished mission.
+#[derive(Clone, Debug, Default)]
+pub struct MapStore {
+    /// Start from the map saved here (known mode).
+    pub load: Option<MemStore>,
+    /// Save the map when the mission finishes ([`MissionTrace::saved_map`]).
+    pub save: bool,
+}
+
+/// How far the robot keeps from the owner's zones beyond its body, m:
+/// [`robovac::grid::zones::MARGIN_MM`].
+pub const ZONE_MARGIN_M: f64 = robovac::grid::zones::MARGIN_MM as f64 / 1000.0;
+
+/// The owner's zones, measured on the truth (reported only when there
+/// are any).
+#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
+pub struct ZoneFigures {
+    /// No-go zones and virtual walls set.
+    pub count: usize,
+    /// Times the true body entered a no-go zone or touched a virtual wall.
+    pub entries: usize,
+    /// The smallest gap between the true body and a zone, mm (negative:
+    /// how deep it reached into one).
+    pub min_gap_mm: f64,
+    #[serde(skip)]
+    inside: bool,
+}
+
+impl ZoneFigures {
+    /// Figures for `zones`, none when there are none.
+    pub fn of(zones: &[Zone]) -> Option<Self> {
+        (!zones.is_empty()).then(|| Self {
+            count: zones.len(),
+            min_gap_mm: f64::INFINITY,
+            ..Default::default()
+        })
+    }
+
+    /// The true body's deepest reach into a zone this period, m (at most
+    /// 0 when clear).
+    pub fn note(&mut self, deep_m: f64) {
+        self.entries += (deep_m > 0.0 && !self.inside) as usize;
+        self.inside = deep_m > 0.0;
+        self.min_gap_mm = self.min_gap_mm.min(-deep_m * 1000.0);
+    }
+}
+
+/// The executive's map before it begins: sized to the world; in known
+/// mode the floor plan, or the map saved by an earlier run
+/// ([`MapStore::load`]); then the owner's zones, with the core's margin.
+pub(super) fn prepare_map<const B: usize>(
+    map: &mut EvidenceMap<B>,
+    world: &World,
+    opts: &MissionOptions,
+) -> Result<(), String> {
+    let known = opts.mode == MapMode::Known;
+    fill_prior(
+        map,
+        world,
+        EVIDENCE_MM,
+        known && opts.map_store.load.is_none(),
+    )?;
+    if let Some(store) = &opts.map_store.load {
+        let size = (map.width(), map.height(), map.res_mm());
+        robovac::robot::map_image::load(&mut store.clone(), map)
+            .map_err(|e| format!("saved map: {e}"))?;
+        let got = (map.width(), map.height(), map.res_mm());
+        if got != size {
+            return Err(format!(
+                "the saved map ({}x{} cells of {} mm) is not of this home ({}x{} of {} mm)",
+                got.0, got.1, got.2, size.0, size.1, size.2
+            ));
+        }
+    }
+    map.set_zones(&world.zones, robovac::grid::zones::MARGIN_MM)
+        .map_err(|e| e.to_string())
+}
