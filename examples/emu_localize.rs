@@ -115,6 +115,51 @@ mod run {
         fine.cells() - fine.free_cells()
     }
 
+    /// [`build_fine`] with the most zones a map holds (six no-go
+    /// rectangles and two virtual walls across the flat), then none again:
+    /// what the owner's zones cost per build.
+    #[inline(never)]
+    fn build_fine_zoned(
+        map: &mut EvidenceMap<{ evidence_bytes(W * H) }>,
+        fine: &mut Grid<FW>,
+    ) -> usize {
+        use robovac::grid::Zone;
+        let rect = |x0_mm, y0_mm| Zone::NoGo {
+            x0_mm,
+            y0_mm,
+            x1_mm: x0_mm + 600,
+            y1_mm: y0_mm + 400,
+        };
+        let zones = [
+            rect(1000, 1000),
+            rect(3000, 1200),
+            rect(5000, 800),
+            rect(7000, 3000),
+            rect(2000, 5000),
+            rect(6000, 5500),
+            Zone::Wall {
+                ax_mm: 4000,
+                ay_mm: 2000,
+                bx_mm: 4000,
+                by_mm: 4500,
+            },
+            Zone::Wall {
+                ax_mm: 500,
+                ay_mm: 3500,
+                bx_mm: 3000,
+                by_mm: 6000,
+            },
+        ];
+        if map.set_zones(&zones, robovac::grid::zones::MARGIN_MM).is_err() {
+            fail("zones");
+        }
+        let blocked = build_fine(map, fine);
+        if map.set_zones(&[], 0).is_err() {
+            fail("zones");
+        }
+        blocked
+    }
+
     fn report(
         meter: &Meter,
         map: &mut EvidenceMap<{ evidence_bytes(W * H) }>,
@@ -135,6 +180,12 @@ mod run {
         defmt::println!(
             "cspace: fine configuration space 192x144 ({} mm clearance, {} cells blocked) built in {} instructions",
             CLEARANCE_MM,
+            blocked,
+            insn
+        );
+        let (blocked, insn) = meter.measure(|| build_fine_zoned(map, fine));
+        defmt::println!(
+            "cspace: the same with 8 no-go zones and virtual walls ({} cells blocked) built in {} instructions",
             blocked,
             insn
         );
