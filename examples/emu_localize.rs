@@ -150,7 +150,10 @@ mod run {
                 by_mm: 6000,
             },
         ];
-        if map.set_zones(&zones, robovac::grid::zones::MARGIN_MM).is_err() {
+        if map
+            .set_zones(&zones, robovac::grid::zones::MARGIN_MM)
+            .is_err()
+        {
             fail("zones");
         }
         let blocked = build_fine(map, fine);
