@@ -7,7 +7,6 @@ use host_sim::run::mission::{run_mission, MapStore, MissionOptions};
 use host_sim::run::suite::suite_map;
 use host_sim::sim::robot::{Noise, RobotConfig};
 use host_sim::sim::world::World;
-use robovac::coverage::PlannerKind;
 use robovac::mission::MapMode;
 use robovac::robot::hal::Storage;
 use robovac::robot::lidar_map::{CellState, EvidenceMap};
@@ -108,32 +107,9 @@ fn a_damaged_or_missing_map_is_refused_whole() {
 }
 
 fn opts(map: &str, noise: Noise, seed: u64) -> MissionOptions {
-    MissionOptions {
-        map: suite_map(map).unwrap(),
-        cell_m: 0.1,
-        mode: MapMode::Unknown,
-        people: 1,
-        noise,
-        seed,
-        max_time_s: 5400.0,
-        start: None,
-        kind: PlannerKind::BOha,
-        lidar_gap_s: None,
-        faults: Default::default(),
-        start_heading: None,
-        kidnap_s: None,
-        home_s: None,
-        localize: true,
-        firmware_order: false,
-        capacity: Default::default(),
-        pil: None,
-        bumper: true,
-        zones: Vec::new(),
-        map_store: MapStore {
-            load: None,
-            save: true,
-        },
-    }
+    let mut o = MissionOptions::new(suite_map(map).unwrap(), MapMode::Unknown, 1, noise, seed);
+    o.map_store.save = true;
+    o
 }
 
 /// The first run explores the studio and saves its map; the second starts

@@ -13,29 +13,7 @@ use robovac::grid::Zone;
 use robovac::mission::MapMode;
 
 fn opts(map: &str, mode: MapMode, people: usize, noise: Noise, seed: u64) -> MissionOptions {
-    MissionOptions {
-        map: suite_map(map).unwrap(),
-        cell_m: 0.1,
-        mode,
-        people,
-        noise,
-        seed,
-        max_time_s: 5400.0,
-        start: None,
-        kind: PlannerKind::BOha,
-        lidar_gap_s: None,
-        faults: Default::default(),
-        start_heading: None,
-        kidnap_s: None,
-        home_s: None,
-        localize: true,
-        firmware_order: false,
-        capacity: Capacity::Host,
-        pil: None,
-        bumper: true,
-        zones: Vec::new(),
-        map_store: Default::default(),
-    }
+    MissionOptions::new(suite_map(map).unwrap(), mode, people, noise, seed)
 }
 
 /// Independent checks on the truth.

@@ -17,29 +17,13 @@ fn cmd_demo() -> Result<(), String> {
     use host_sim::run::mission::{run_mission, MissionOptions};
     use host_sim::run::suite::suite_map;
     let map = suite_map("home")?;
-    let opts = MissionOptions {
+    let opts = MissionOptions::new(
         map,
-        cell_m: 0.1,
-        mode: robovac::mission::MapMode::Known,
-        people: 2,
-        noise: host_sim::sim::robot::Noise::None,
-        seed: 1,
-        max_time_s: 5400.0,
-        start: None,
-        kind: robovac::coverage::PlannerKind::BOha,
-        lidar_gap_s: None,
-        faults: Default::default(),
-        start_heading: None,
-        kidnap_s: None,
-        home_s: None,
-        localize: true,
-        firmware_order: false,
-        capacity: Default::default(),
-        pil: None,
-        bumper: true,
-        zones: Vec::new(),
-        map_store: Default::default(),
-    };
+        robovac::mission::MapMode::Known,
+        2,
+        host_sim::sim::robot::Noise::None,
+        1,
+    );
     println!(
         "robovac demo: the firmware's mission executive cleans a 9.6 m × 7.2 m furnished flat"
     );

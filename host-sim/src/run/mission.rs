@@ -86,6 +86,37 @@ pub struct MissionOptions {
     pub map_store: MapStore,
 }
 
+impl MissionOptions {
+    /// A mission of the usual kind on `map` (its own cell size, else
+    /// 0.1 m): B-OHA*, localisation and the bumper on, 90 minutes at
+    /// most, docked where the map says, no faults, zones or saved map.
+    pub fn new(map: MapData, mode: MapMode, people: usize, noise: Noise, seed: u64) -> Self {
+        Self {
+            cell_m: map.cell_m.unwrap_or(0.1),
+            map,
+            mode,
+            people,
+            noise,
+            seed,
+            max_time_s: 5400.0,
+            start: None,
+            kind: PlannerKind::BOha,
+            lidar_gap_s: None,
+            faults: Default::default(),
+            start_heading: None,
+            kidnap_s: None,
+            home_s: None,
+            localize: true,
+            firmware_order: false,
+            capacity: Default::default(),
+            pil: None,
+            bumper: true,
+            zones: Vec::new(),
+            map_store: Default::default(),
+        }
+    }
+}
+
 /// What a mission measured (its JSON: these fields, plus `sim_speed` and
 /// `time_vs_ideal`; see [`report_json`]).
 #[derive(Clone, Debug, Default, serde::Serialize)]

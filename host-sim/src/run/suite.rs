@@ -1,7 +1,6 @@
 //! The built-in mission suite: its maps, its cases, and running them on a
 //! thread pool.
 
-use robovac::coverage::PlannerKind;
 use robovac::mission::MapMode;
 
 use super::mission::{run_mission, MissionOptions, MissionReport};
@@ -129,29 +128,8 @@ pub fn run_suite(
             if !map_zones {
                 crate::sim::zones::drop_map_zones(&mut map);
             }
-            let opts = MissionOptions {
-                cell_m: map.cell_m.unwrap_or(0.1),
-                map,
-                mode: c.mode,
-                people: c.people,
-                noise: c.noise,
-                seed: c.seed,
-                max_time_s,
-                start: None,
-                kind: PlannerKind::BOha,
-                lidar_gap_s: None,
-                faults: Default::default(),
-                start_heading: None,
-                kidnap_s: None,
-                home_s: None,
-                localize: true,
-                firmware_order: false,
-                capacity: Default::default(),
-                pil: None,
-                bumper: true,
-                zones: Vec::new(),
-                map_store: Default::default(),
-            };
+            let mut opts = MissionOptions::new(map, c.mode, c.people, c.noise, c.seed);
+            opts.max_time_s = max_time_s;
             run_mission(&opts, |_, _, _| {}).map(|(rep, _, _)| rep)
         });
         progress(done.fetch_add(1, Ordering::SeqCst) + 1, cases.len());

@@ -3,6 +3,7 @@
 
 pub mod config;
 pub mod floor;
+pub mod hal;
 pub mod robot;
 pub mod scan;
 pub mod world;

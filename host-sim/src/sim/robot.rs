@@ -1,14 +1,13 @@
 //! The physical twin of the robot: motors, encoders, wheel slip, body
 //! collisions and an LD06 lidar that emits real frames as bytes at the
 //! baud rate's pace. Deterministic for a given seed. The core drives it
-//! through its own hardware traits ([`robovac::robot::hal`]).
+//! through its own hardware traits ([`robovac::robot::hal`], implemented
+//! in [`super::hal`]).
 
 use std::collections::VecDeque;
 
 use robovac::grid::maps::SplitMix64;
-use robovac::robot::hal::{
-    Bumper, BumperSwitches, ByteSource, Clock, MotorDriver, QuadratureEncoder,
-};
+use robovac::robot::hal::Bumper;
 use robovac::robot::lidar::ld06;
 
 use crate::sim::world::World;
@@ -73,8 +72,8 @@ pub struct Sim {
     /// True pose: x, y (m), heading (rad).
     pub pose: (f64, f64, f64),
     wheel_v: [f64; 2],
-    duty: [f64; 2],
-    braking: bool,
+    pub(super) duty: [f64; 2],
+    pub(super) braking: bool,
     ticks: [f64; 2],
     slip: [f64; 2],
     mismatch: [f64; 2],
@@ -88,11 +87,11 @@ pub struct Sim {
     pub collisions: Vec<Collision>,
     /// The bumper's switches closed at some physics step since the last
     /// read ([`BumperSwitches::read_bumper`]).
-    bumper: Bumper,
+    pub(super) bumper: Bumper,
     lidar_angle_deg: f64,
     sample_acc: f64,
     samples: Vec<(u16, u16, u8)>,
-    uart: VecDeque<(u64, u8)>,
+    pub(super) uart: VecDeque<(u64, u8)>,
     uart_free_us: f64,
     /// Injected corruption.
     pub corruption: Corruption,
@@ -517,85 +516,5 @@ impl Sim {
     /// would show it: quantised, wrapping at 16 bits.
     pub fn encoder(&self, i: usize) -> u16 {
         (self.ticks[i].floor() as i64).rem_euclid(65536) as u16
-    }
-}
-
-impl BumperSwitches for Sim {
-    /// Closed when a switch closed at any physics step since the last read
-    /// (a press shorter than a control period is not lost).
-    fn read_bumper(&mut self) -> Bumper {
-        std::mem::take(&mut self.bumper)
-    }
-}
-
-impl MotorDriver for Sim {
-    fn set_duty(&mut self, left_pm: i16, right_pm: i16) {
-        self.braking = false;
-        self.duty = [
-            left_pm.clamp(-1000, 1000) as f64 / 1000.0,
-            right_pm.clamp(-1000, 1000) as f64 / 1000.0,
-        ];
-    }
-    fn brake(&mut self) {
-        self.braking = true;
-        self.duty = [0.0; 2];
-    }
-    fn coast(&mut self) {
-        self.braking = false;
-        self.duty = [0.0; 2];
-    }
-}
-
-/// One wheel's encoder, read through the core's trait.
-pub struct SimEncoder<'a> {
-    /// The robot.
-    pub sim: &'a Sim,
-    /// 0 left, 1 right.
-    pub wheel: usize,
-}
-
-impl QuadratureEncoder for SimEncoder<'_> {
-    fn count(&mut self) -> u16 {
-        self.sim.encoder(self.wheel)
-    }
-}
-
-impl Sim {
-    /// Both encoders' counts (left, right), read through the core's trait.
-    pub fn read_encoders(&self) -> (u16, u16) {
-        let l = SimEncoder {
-            sim: self,
-            wheel: 0,
-        }
-        .count();
-        let r = SimEncoder {
-            sim: self,
-            wheel: 1,
-        }
-        .count();
-        (l, r)
-    }
-}
-
-impl ByteSource for Sim {
-    fn read(&mut self, buf: &mut [u8]) -> usize {
-        let mut n = 0;
-        while n < buf.len() {
-            match self.uart.front() {
-                Some(&(t, b)) if t <= self.t_us => {
-                    buf[n] = b;
-                    n += 1;
-                    self.uart.pop_front();
-                }
-                _ => break,
-            }
-        }
-        n
-    }
-}
-
-impl Clock for Sim {
-    fn now_us(&mut self) -> u64 {
-        self.t_us
     }
 }
