@@ -54,6 +54,9 @@ pub enum Fault {
     LidarLost,
     /// No path back to the start.
     NoWayHome,
+    /// On the dock to recharge, the charge did not rise: the robot is
+    /// off the charger's contacts (or the charger is off).
+    NotCharging,
     /// Lost (kidnapped) and not relocalised within `lost_timeout_us`.
     Lost,
 }
@@ -68,6 +71,7 @@ impl Fault {
             Fault::Capacity => "map, list or path capacity exceeded",
             Fault::LidarLost => "lidar lost",
             Fault::NoWayHome => "no path back to the start",
+            Fault::NotCharging => "on the dock, not charging",
             Fault::Lost => "lost: relocalisation failed",
         }
     }
@@ -94,6 +98,8 @@ pub enum State {
     Return,
     /// At the dock, turning to the heading it left with.
     Docking,
+    /// On the dock, charging, to go on cleaning where it stopped.
+    Charging,
     /// Motors stopped: the lidar is silent.
     LidarSilent,
     /// Motors stopped: the robot is lost (picked up and put down
@@ -179,8 +185,12 @@ pub struct MissionConfig {
     /// around. Off: the prior map is fixed.
     pub map_known_updates: bool,
     /// Cleaning time before the robot heads home whatever is left (the
-    /// battery's share for cleaning), µs.
+    /// battery's share for cleaning), µs. Used only while no state of
+    /// charge is given ([`super::Mission::set_charge`]); with one, the
+    /// charge decides ([`BatteryParams`]).
     pub battery_us: u64,
+    /// Going home to recharge, and resuming.
+    pub battery: BatteryParams,
     /// Closer than this to two lidar points (beyond the radius), the robot
     /// stops turning and backs straight away from them, mm.
     pub escape_mm: i32,
@@ -243,6 +253,7 @@ impl MissionConfig {
             stall_retries: 2,
             escape_mm: 0,
             battery_us: 75 * 60 * 1_000_000,
+            battery: BatteryParams::DEFAULT,
             map_known_updates: true,
             localize: true,
             lost_timeout_us: 60_000_000,
@@ -288,6 +299,47 @@ impl MissionConfig {
     }
 }
 
+/// When to go home to recharge, and when to go on (issue 12's recharge
+/// and resume; the rule is in `mission::battery`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct BatteryParams {
+    /// Charge kept in hand on arrival at the dock, ‰.
+    pub reserve_pm: u16,
+    /// The drain assumed while driving home, ‰ per minute, until the
+    /// mission has measured a higher one.
+    pub drain_pm_per_min: u16,
+    /// The way home's length as a share of the straight line, %.
+    pub home_detour_pct: u16,
+    /// The speed assumed on the way home, mm/s.
+    pub home_speed_mm_s: u16,
+    /// Charged to this, the robot goes on cleaning, ‰.
+    pub resume_pm: u16,
+    /// On the dock this long with the charge not rising by 2 %: the
+    /// robot is off its contacts, and the mission fails, µs.
+    pub charge_timeout_us: u64,
+}
+
+impl BatteryParams {
+    /// For the reference robot's 4S pack (75–80 min of cleaning from
+    /// full): 6 % in hand; 14 ‰ a minute (1 000 ‰ in 71 min, a little
+    /// faster than the cleaning drain, for the slopes of the way home);
+    /// the way home twice the straight line (rooms and doors between),
+    /// driven at 0.2 m/s with its turns; resume at 80 % (the constant-
+    /// current part of a Li-ion charge: the last 20 % take as long again
+    /// at a tapering current, so robot vacuums resume there); 10 min to
+    /// see the charge rise.
+    pub const DEFAULT: Self = Self {
+        reserve_pm: 60,
+        drain_pm_per_min: 14,
+        home_detour_pct: 200,
+        home_speed_mm_s: 200,
+        resume_pm: 800,
+        charge_timeout_us: 600_000_000,
+    };
+}
+
 /// Event counters.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -319,6 +371,9 @@ pub struct Counters {
     pub replans: u32,
     /// Missions cut short by the battery budget.
     pub battery_returns: u32,
+    /// Charges: the robot went home with its battery low, charged and
+    /// went on cleaning where it stopped.
+    pub charges: u32,
     /// Times the planner's given-up goals were tried again.
     pub abandoned_retries: u32,
     /// Control ticks spent backing away from something at touching
@@ -356,6 +411,7 @@ impl Counters {
             retried: 0,
             replans: 0,
             battery_returns: 0,
+            charges: 0,
             abandoned_retries: 0,
             escapes: 0,
             guard_ticks: 0,

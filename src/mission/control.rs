@@ -176,7 +176,7 @@ impl Mission {
     fn motion(&mut self, now_us: u64, pose: &Pose) -> (i32, i32) {
         match self.phase {
             Phase::SelfTestWheels { .. } => return (0, 800),
-            Phase::Align => return self.align(pose),
+            Phase::Align => return self.align(now_us, pose),
             p if p.driving() => {}
             _ => return (0, 0),
         }
@@ -198,10 +198,17 @@ impl Mission {
 
     /// At the dock: turn in place to the start's heading (proportional,
     /// 0.15–0.8 rad/s), done within 15 mrad.
-    fn align(&mut self, pose: &Pose) -> (i32, i32) {
+    fn align(&mut self, now_us: u64, pose: &Pose) -> (i32, i32) {
         let e = crate::math::angle::wrap_mrad(self.start.theta_mrad - pose.theta_mrad);
         if e.abs() <= 15 {
-            self.phase = Phase::Done;
+            self.phase = if self.battery.resume.is_some() {
+                Phase::Charging {
+                    since_us: now_us,
+                    from_pm: self.battery.now_pm.unwrap_or(0),
+                }
+            } else {
+                Phase::Done
+            };
             return (0, 0);
         }
         let w = (3 * e).clamp(-800, 800);

@@ -104,6 +104,7 @@ macro_rules! sized_impl {
 }
 
 mod avoid;
+mod battery;
 mod bump;
 mod control;
 mod cover;
@@ -163,6 +164,12 @@ enum Phase {
     Return,
     /// At the dock: turning in place to the heading it started with.
     Align,
+    /// On the dock, charging since `since_us` from `from_pm` ‰, to go
+    /// on cleaning ([`battery`]).
+    Charging {
+        since_us: u64,
+        from_pm: u16,
+    },
     Done,
     Failed(Fault),
 }
@@ -283,6 +290,8 @@ pub struct Mission {
     lost_since_us: u64,
     /// A bump was marked: plan the leg again once the back-off ends.
     bump_replan: bool,
+    /// The battery: its charge, and the phase to resume after charging.
+    battery: battery::Charge,
 }
 
 /// The executive at work on the caller's buffers `P` (the planning side).
@@ -356,6 +365,7 @@ impl Mission {
             relocated: false,
             lost_since_us: 0,
             bump_replan: false,
+            battery: battery::Charge::new(),
         }
     }
 
@@ -449,6 +459,16 @@ impl Mission {
         cmd
     }
 
+    /// The battery's state of charge, ‰ (0..=1000; more saturates), from
+    /// the pack's fuel gauge or [`crate::robot::battery::charge_from_mv`];
+    /// as often as it is measured (every control period at most). Once
+    /// given, the charge decides when to go home to recharge and when to
+    /// go on ([`MissionConfig::battery`]); never given, the time budget
+    /// `battery_us` ends the mission.
+    pub fn set_charge(&mut self, charge_pm: u16) {
+        self.battery.now_pm = Some(charge_pm.min(1000));
+    }
+
     /// The owner (the robot's button) or a low battery asks the robot
     /// home: at the next planning step in which it is cleaning (the lanes
     /// or the edge pass) it stops cleaning and returns to the dock, as
@@ -538,6 +558,7 @@ impl Mission {
         match self.phase {
             Phase::Failed(f) => State::Failed(f),
             Phase::Done => State::Done,
+            Phase::Charging { .. } => State::Charging,
             Phase::Idle
             | Phase::SelfTestScan { .. }
             | Phase::SelfTestWheels { .. }

@@ -78,16 +78,29 @@ sized_impl!([] {
                 }
             }
             Phase::ReturnSearch | Phase::Return => self.return_step(now_us, pose),
+            Phase::Charging { .. } => self.charging_step(now_us, pose),
             Phase::Idle | Phase::Align | Phase::Done | Phase::Failed(_) => {}
         }
     }
 
-    /// Battery: after the cleaning budget, or when asked
-    /// ([`super::Mission::request_home`]), go home. True when it did.
+    /// Battery: with the charge low, home to charge and resume
+    /// ([`super::battery`]); after the cleaning budget (no charge known),
+    /// or when asked ([`super::Mission::request_home`]), home for good.
+    /// True when it went.
     fn go_home_when_due(&mut self, now_us: u64, pose: &Pose) -> bool {
         let m = &mut *self.m;
-        let spent = now_us.saturating_sub(m.started_us) > m.cfg.battery_us;
-        if !matches!(m.phase, Phase::Cover | Phase::Edge) || !(spent || m.home_requested) {
+        if !matches!(m.phase, Phase::Cover | Phase::Edge) {
+            return false;
+        }
+        let here = (pose.x_mm, pose.y_mm);
+        let dock = (m.start.x_mm, m.start.y_mm);
+        if !m.home_requested && m.battery.low(&m.cfg.battery, here, dock, now_us) {
+            self.leave_for_charge(pose);
+            return true;
+        }
+        let timed = m.battery.now_pm.is_none();
+        let spent = timed && now_us.saturating_sub(m.started_us) > m.cfg.battery_us;
+        if !(spent || m.home_requested) {
             return false;
         }
         m.home_requested = false;

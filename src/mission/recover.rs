@@ -130,6 +130,31 @@ sized_impl!([] {
         }
     }
 
+    /// Every cleaning sub-path still queued goes back for a later pass
+    /// ([`Self::give_up`]), and a cleaning move to `tail` after them (a
+    /// detour still being fed).
+    pub(super) fn put_back_queue(&mut self, tail: Option<(i32, i32)>) {
+        let m = &mut *self.m;
+        let none = SubPath {
+            from: (0, 0),
+            to: (0, 0),
+        };
+        let mut dropped = [(none, false); QUEUE + 1];
+        let mut n = 0;
+        for (slot, item) in dropped.iter_mut().zip(m.queue.iter()) {
+            *slot = item;
+            n += 1;
+        }
+        let last_end = m.queue.last_end();
+        if let (Some(from), Some(to), Some(slot)) = (last_end, tail, dropped.get_mut(n)) {
+            *slot = (SubPath { from, to }, true);
+            n += 1;
+        }
+        for &(seg, c) in dropped.iter().take(n) {
+            self.give_up(seg, c, last_end);
+        }
+    }
+
     /// The guard has held the robot: the leg ahead runs into something the
     /// plan did not know of (a wall first seen now, or the pose drifted).
     /// Drops the queue and plans a fresh fine-map path from where the robot
@@ -143,22 +168,7 @@ sized_impl!([] {
         m.guard_block_since = None;
         let cover = m.queue.front().is_some_and(|(_, c)| c);
         let target = m.feed.and_then(|f| f.then).or(m.queue.last_end());
-        let mut dropped = [(
-            SubPath {
-                from: (0, 0),
-                to: (0, 0),
-            },
-            false,
-        ); QUEUE];
-        let mut n = 0;
-        for (slot, item) in dropped.iter_mut().zip(m.queue.iter()) {
-            *slot = item;
-            n += 1;
-        }
-        let last_end = m.queue.last_end();
-        for &(seg, c) in dropped.iter().take(n) {
-            self.give_up(seg, c, last_end);
-        }
+        self.put_back_queue(None);
         let m = &mut *self.m;
         m.feed = None;
         let here = (pose.x_mm, pose.y_mm);

@@ -2,6 +2,7 @@
 //! lidar's wire protocol and the evidence map built from it. Uses `math`
 //! and `grid`.
 
+pub mod battery;
 pub mod debounce;
 pub mod hal;
 pub mod lidar;

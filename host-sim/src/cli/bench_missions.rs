@@ -122,7 +122,7 @@ fn print_suite_groups(
         "coll",
         "people",
         "avoid",
-        "t/ideal",
+        "t/area",
         "sim×"
     );
     let mut groups: Vec<(String, String, String)> = Vec::new();
@@ -171,7 +171,7 @@ fn print_suite_groups(
             sel.iter().map(|r| r.collisions).sum::<usize>(),
             sel.iter().map(|r| r.person_contacts).sum::<usize>(),
             mean(&|r| r.avoidance_events as f64),
-            mean(&|r| r.sim_time_s / r.ideal_time_s.max(1e-9)),
+            mean(&|r| r.cleaning_time_s / r.floor_time_s.max(1e-9)),
             mean(&|r| r.sim_time_s / r.wall_time_s.max(1e-9)),
         );
     }

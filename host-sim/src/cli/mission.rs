@@ -74,6 +74,15 @@ pub struct Args {
     /// see is found only by stalling against it.
     #[arg(long)]
     pub no_bumper: bool,
+    /// No battery gauge (for comparison): the robot cleans for its
+    /// 75-minute budget and goes home for good, instead of going home to
+    /// charge when its charge runs low and going on after.
+    #[arg(long)]
+    pub no_battery: bool,
+    /// The battery's usable energy, Wh (default: the reference robot's
+    /// 37.4 Wh pack): a smaller one makes a home need charges.
+    #[arg(long, value_name = "WH")]
+    pub battery_wh: Option<f64>,
     /// A no-go zone X0,Y0,X1,Y1 (metres, a rectangle's opposite corners;
     /// repeat for more), besides the map's own: the body never enters it.
     #[arg(long = "no-go", value_parser = parse_corners, value_name = "X0,Y0,X1,Y1")]
@@ -168,6 +177,7 @@ fn options(a: &Args) -> Result<MissionOptions, String> {
         home_s: a.home_at,
         localize: !a.no_localize,
         bumper: !a.no_bumper,
+        battery: battery_of(a)?,
         zones: zones_of(&a.no_go, &a.virtual_wall),
         map_store: host_sim::run::mission::MapStore {
             load: a
@@ -184,6 +194,22 @@ fn options(a: &Args) -> Result<MissionOptions, String> {
             log: a.pil_log.clone(),
         }),
     })
+}
+
+/// The twin's battery as the command line asks.
+fn battery_of(a: &Args) -> Result<Option<host_sim::sim::battery::BatterySpec>, String> {
+    let mut spec = host_sim::sim::battery::REFERENCE;
+    match (a.no_battery, a.battery_wh) {
+        (true, Some(_)) => Err("--no-battery and --battery-wh do not go together".into()),
+        (true, None) => Ok(None),
+        (false, Some(wh)) if !(wh.is_finite() && (0.5..=1000.0).contains(&wh)) => {
+            Err("--battery-wh must be between 0.5 and 1000".into())
+        }
+        (false, wh) => {
+            spec.capacity_wh = wh.unwrap_or(spec.capacity_wh);
+            Ok(Some(spec))
+        }
+    }
 }
 
 /// The firmware image for `--pil` exists, and the event times are times.

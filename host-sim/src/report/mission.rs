@@ -25,8 +25,15 @@ pub fn summary(rep: &MissionReport) -> String {
             z.count, z.entries, z.min_gap_mm
         )
     });
+    let charges = match rep.charges {
+        0 => String::new(),
+        n => format!(
+            " · {n} charges ({:.0} min on the dock)",
+            rep.charging_time_s / 60.0
+        ),
+    };
     format!(
-        "finished {} · back at start {} · coverage {:.2} % · repetition {:.2} · collisions {} (people into robot {}) · min clearance {:.3} m · {:.1} m in {:.0} s simulated (ideal {:.0} s, ×{:.2}) · avoidances {} · {:.0}× real time",
+        "finished {} · back at start {} · coverage {:.2} % · repetition {:.2} · collisions {} (people into robot {}) · min clearance {:.3} m · {:.1} m in {:.0} s of cleaning (ideal {:.0} s, ×{:.2}; time ÷ area-ideal {:.2}) · avoidances {} · {:.0}× real time",
         rep.finished,
         rep.returned_to_start,
         100.0 * rep.coverage,
@@ -35,12 +42,14 @@ pub fn summary(rep: &MissionReport) -> String {
         rep.person_contacts,
         rep.min_clearance_m,
         rep.distance_m,
-        rep.sim_time_s,
+        rep.cleaning_time_s,
         rep.ideal_time_s,
-        rep.sim_time_s / rep.ideal_time_s.max(1e-9),
+        rep.cleaning_time_s / rep.ideal_time_s.max(1e-9),
+        rep.cleaning_time_s / rep.floor_time_s.max(1e-9),
         rep.avoidance_events,
         rep.sim_time_s / rep.wall_time_s.max(1e-9),
-    ) + &zones
+    ) + &charges
+        + &zones
 }
 
 /// What a ValetudoMap adds: the vendor robot's own paths (grey).

@@ -22,6 +22,8 @@ pub struct Sensors<'a> {
     pub enc: (u16, u16),
     /// The bumper's switches.
     pub bumper: Bumper,
+    /// The battery gauge's state of charge, ‰ (None: no gauge).
+    pub charge_pm: Option<u16>,
 }
 
 /// The executive as the mission loop sees it.
@@ -89,6 +91,9 @@ impl Executive for Native<'_> {
     fn period(&mut self, s: &Sensors<'_>) -> Result<MotorCmd, String> {
         let (t_us, enc) = (s.t_us, s.enc);
         self.mission.set_bumper(s.bumper);
+        if let Some(pm) = s.charge_pm {
+            self.mission.set_charge(pm);
+        }
         // In the chunks the UART model delivers (as before the sim link).
         for chunk in s.lidar.chunks(512) {
             self.mission.feed_lidar(self.parts, chunk, t_us);

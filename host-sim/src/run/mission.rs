@@ -84,6 +84,9 @@ pub struct MissionOptions {
     pub zones: Vec<Zone>,
     /// The map kept between runs.
     pub map_store: MapStore,
+    /// The twin's battery and its gauge (None: none; the executive
+    /// keeps to its time budget, as with `--pil`).
+    pub battery: Option<crate::sim::battery::BatterySpec>,
 }
 
 impl MissionOptions {
@@ -113,6 +116,7 @@ impl MissionOptions {
             bumper: true,
             zones: Vec::new(),
             map_store: Default::default(),
+            battery: Some(crate::sim::battery::REFERENCE),
         }
     }
 }
@@ -156,6 +160,15 @@ pub struct MissionReport {
     pub avoidance_events: u32,
     /// Simulated time, s.
     pub sim_time_s: f64,
+    /// Simulated time less the time charging on the dock, s.
+    pub cleaning_time_s: f64,
+    /// Time charging on the dock, s.
+    pub charging_time_s: f64,
+    /// Charges: home with the battery low, charged, and on again.
+    pub charges: u32,
+    /// The twin's battery (None: none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub battery: Option<super::power::BatteryFigures>,
     /// Wall-clock time, s.
     pub wall_time_s: f64,
     /// Path length ÷ cleaning speed, s.
@@ -341,7 +354,9 @@ pub(crate) fn drive(
     let mut kidnap_us = opts.kidnap_s.map(|t| (t * 1e6) as u64);
     let mut home_us = opts.home_s.map(|t| (t * 1e6) as u64);
     let mut inject = super::inject::Injector::new(opts.faults, opts.seed);
-    while sim.t_us < max_us && !mission.finished() {
+    let mut power = super::power::Power::new(opts.battery, pose);
+    // The limit is on cleaning time: charging does not count.
+    while sim.t_us < max_us + (charging_s(&rep) * 1e6) as u64 && !mission.finished() {
         if kidnap_us.is_some_and(|t| sim.t_us >= t) {
             kidnap_us = None;
             trace.kidnap = sim.kidnap().map(|p| (sim.t_us as f64 * 1e-6, p));
@@ -350,7 +365,10 @@ pub(crate) fn drive(
             home_us = None;
             mission.request_home()?;
         }
-        control_period(sim, mission, opts, &mut inject)?;
+        control_period(sim, mission, opts, &mut inject, &mut power)?;
+        if power.flat() {
+            break;
+        }
         while let Some(e) = mission.pop_event() {
             trace.events.push(e);
         }
@@ -376,6 +394,12 @@ pub(crate) fn drive(
     }
     mission.debug_grid(true);
     finish_report(&mut rep, mission, sim, floor, pose, &cfg);
+    rep.battery = super::power::BatteryFigures::of(&power);
+    rep.charging_time_s = charging_s(&rep);
+    rep.cleaning_time_s = rep.sim_time_s - rep.charging_time_s;
+    if power.flat() {
+        rep.faults.push(("battery ran flat".to_string(), 1));
+    }
     trace.truth = std::mem::take(&mut sim.trajectory);
     rep.injected = inject.done;
     rep.silence_stop_ms = opts
@@ -388,6 +412,11 @@ pub(crate) fn drive(
         .map(|c| (c.pos, c.by_person))
         .collect();
     Ok((rep, trace))
+}
+
+/// Time the executive has spent charging on the dock, s.
+fn charging_s(rep: &MissionReport) -> f64 {
+    rep.state_time_s.get("Charging").copied().unwrap_or(0.0)
 }
 
 /// The executive's configuration for this robot. Its margins follow its
@@ -412,11 +441,13 @@ fn control_period(
     mission: &mut dyn Executive,
     opts: &MissionOptions,
     inject: &mut super::inject::Injector,
+    power: &mut super::power::Power,
 ) -> Result<(), String> {
     let steps = sim.cfg.control_period_us / sim.cfg.physics_step_us;
     for _ in 0..steps {
         sim.step();
     }
+    power.step(sim, sim.cfg.control_period_us as f64 * 1e-6);
     let mut buf = [0u8; 512];
     let mut lidar = Vec::new();
     loop {
@@ -447,6 +478,7 @@ fn control_period(
         lidar: &lidar,
         enc,
         bumper,
+        charge_pm: power.gauge_pm(),
     };
     match mission.period(&sensors)? {
         MotorCmd::Duty(a, b) => sim.set_duty(a, b),
@@ -576,6 +608,7 @@ fn finish_report(
     rep.floor_time_s = rep.floor_m2 / (cfg.diameter_m * cfg.clean_speed_m_s);
     rep.final_state = format!("{state:?}");
     rep.counters = c;
+    rep.charges = c.charges;
     let pose = mission.pose();
     rep.odometry_error_mm =
         (x - pose.x_mm as f64 / 1000.0).hypot(y - pose.y_mm as f64 / 1000.0) * 1000.0;

@@ -12,5 +12,6 @@ pub mod mission_map;
 pub mod parts;
 pub mod pil;
 pub mod plan;
+pub mod power;
 mod report_json;
 pub mod suite;

@@ -7,7 +7,9 @@ use super::mission::MissionReport;
 pub fn report_json(rep: &MissionReport) -> serde_json::Value {
     let mut v = serde_json::to_value(rep).unwrap_or_default();
     v["sim_speed"] = serde_json::json!(rep.sim_time_s / rep.wall_time_s.max(1e-9));
-    v["time_vs_ideal"] = serde_json::json!(rep.sim_time_s / rep.ideal_time_s.max(1e-9));
+    // Charging is not cleaning: both ratios are of the cleaning time.
+    v["time_vs_ideal"] = serde_json::json!(rep.cleaning_time_s / rep.ideal_time_s.max(1e-9));
+    v["time_vs_area_ideal"] = serde_json::json!(rep.cleaning_time_s / rep.floor_time_s.max(1e-9));
     v
 }
 

@@ -197,6 +197,15 @@ impl Sim {
         }
     }
 
+    /// The wheels' duty as the motors get it (0 while braking), −1..1.
+    pub fn duty(&self) -> [f64; 2] {
+        if self.braking {
+            [0.0; 2]
+        } else {
+            self.duty
+        }
+    }
+
     /// Motors: duty → steady speed (dead band, saturation) → first order.
     fn step_motors(&mut self, dt: f64) {
         let c = &self.cfg;
