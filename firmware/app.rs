@@ -500,7 +500,15 @@ mod app {
         else {
             return;
         };
-        defmt::info!("battery {} mV", battery.read_mv().unwrap_or(0));
+        let mv = battery.read_mv();
+        defmt::info!("battery {} mV", mv.unwrap_or(0));
+        // The charge decides when to go home to recharge. A pin reading
+        // below 2.5 V a cell has no pack behind it (the divider is not
+        // wired, or no ADC: the emulator): the time budget then applies.
+        if let Some(mv) = mv.filter(|&mv| mv >= wiring::BATTERY_CELLS * 2_500) {
+            let pm = robovac::robot::battery::charge_from_mv(mv, wiring::BATTERY_CELLS);
+            with_exec(|e| e.mission.set_charge(pm));
+        }
         defmt::info!(
             "worst cycles: control {}, lidar event {}, plan step {} (budget {} per 10 ms); stack {} of {} bytes; scans {}, plan steps {}",
             WORST[0].load(Ordering::Relaxed),

@@ -116,6 +116,8 @@ pub const BATTERY_CHANNEL: u8 = 4;
 /// The divider's ratio: the battery's voltage is 4 × the pin's (a 30 kΩ /
 /// 10 kΩ divider: a 2S pack at 8.4 V reads 2.1 V).
 pub const BATTERY_DIVIDER: u32 = 4;
+/// Li-ion cells in series in the pack (2S: within the TB6612's 13.5 V).
+pub const BATTERY_CELLS: u32 = 2;
 
 /// The defmt serial port: USART2 (APB1, 42 MHz), TX on PA2 (AF7).
 #[cfg(feature = "log-serial")]

@@ -127,6 +127,7 @@ fn the_second_run_starts_from_the_map_the_first_saved() {
     second.map_store = MapStore {
         load: Some(store.clone()),
         save: false,
+        ..Default::default()
     };
     let (rep2, t2, _) = run_mission(&second, |_, _, _| {}).unwrap();
     let moved = t2.events.iter().find_map(|e| match e.kind {

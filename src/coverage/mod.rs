@@ -278,6 +278,23 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
             return Err(CoverageError::BadStart);
         }
         grid.clear_layer(Layer::Covered);
+        self.start_keeping(grid, start)
+    }
+
+    /// Starts a run at `start` on a grid whose covered layer already
+    /// holds what an earlier run cleaned (restored after a power loss,
+    /// [`crate::robot::progress_image`]): only the rest is planned. The
+    /// backtracking list starts empty; the planner's rescan of the grid
+    /// when its list runs dry finds what is left.
+    pub fn start_keeping<const GW: usize>(
+        &mut self,
+        grid: &mut Grid<GW>,
+        start: Cell,
+    ) -> Result<(), CoverageError> {
+        let (x, y) = start.xy();
+        if grid.cells() > N || grid.is_blocked(x, y) {
+            return Err(CoverageError::BadStart);
+        }
         self.list.reset();
         self.path_len = 0;
         self.path_pos = 0;

@@ -72,7 +72,13 @@ impl Charge {
 
     /// The charge now covers only the way home from `here` to `dock`
     /// and the reserve.
-    pub fn low(&mut self, p: &BatteryParams, here: (i32, i32), dock: (i32, i32), now_us: u64) -> bool {
+    pub fn low(
+        &mut self,
+        p: &BatteryParams,
+        here: (i32, i32),
+        dock: (i32, i32),
+        now_us: u64,
+    ) -> bool {
         let Some(pm) = self.now_pm else {
             return false;
         };
@@ -170,13 +176,19 @@ mod tests {
     #[test]
     fn low_when_the_way_home_takes_what_is_left() {
         let mut c = Charge::new();
-        assert!(!c.low(&P, (10_000, 0), (0, 0), 0), "no charge known: never low");
+        assert!(
+            !c.low(&P, (10_000, 0), (0, 0), 0),
+            "no charge known: never low"
+        );
         c.now_pm = Some(84);
         assert!(!c.low(&P, (10_000, 0), (0, 0), 0));
         c.now_pm = Some(83);
         assert!(c.low(&P, (10_000, 0), (0, 0), 0));
         c.now_pm = Some(60);
-        assert!(c.low(&P, (0, 0), (0, 0), 0), "at the reserve, even at the dock");
+        assert!(
+            c.low(&P, (0, 0), (0, 0), 0),
+            "at the reserve, even at the dock"
+        );
     }
 
     /// A drain measured higher than the configured one is used: 300 ‰

@@ -102,7 +102,12 @@ sized_impl!([] {
             self.fail(Fault::StartBlocked);
             return;
         };
-        if self.p.planner.start(self.p.coarse, start).is_err() {
+        let started = if self.m.restored {
+            self.p.planner.start_keeping(self.p.coarse, start)
+        } else {
+            self.p.planner.start(self.p.coarse, start)
+        };
+        if started.is_err() {
             self.fail(Fault::StartBlocked);
             return;
         }

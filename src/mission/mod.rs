@@ -8,6 +8,7 @@
 //!               │ ▲  (Avoid, BackOff: from any driving state, and back)
 //!               ▼ │
 //!   faults: LidarSilent (motors stopped, resumes), Failed(fault)
+//!   battery low in Cover or Edge: Return ─► Docking ─► Charging ─► back
 //! ```
 //!
 //! - **SelfTest**: two complete lidar revolutions within 3 s, then a short
@@ -21,6 +22,9 @@
 //! - **Edge**: the edge pass ([`crate::nav::edge`]) along every wall and piece of
 //!   furniture, which sweeps the strips the planning cells leave.
 //! - **Return**: A* on the fine configuration space to the start (the dock).
+//! - **Charging**: the charge ran low while cleaning ([`battery`]): home,
+//!   charge on the dock, and back to the lanes or edges where they
+//!   stopped.
 //! - **Avoid**: when something the map does not explain lies in the
 //!   corridor ahead, DWA ([`crate::nav::dwa`]) steers toward the end of the
 //!   current straight sub-path; once the straight line from the robot to
@@ -111,9 +115,11 @@ mod cover;
 mod edge;
 mod handoff;
 mod home;
+mod inspect;
 mod lidar;
 mod locate;
 mod plan;
+mod progress;
 mod recover;
 mod route;
 
@@ -133,7 +139,7 @@ pub use reflex::{Reflex, ReflexOut};
 
 use crate::localize::Fusion;
 use crate::nav::edge::EdgePass;
-use crate::nav::follow::{SubPath, SubPaths};
+use crate::nav::follow::SubPaths;
 use crate::nav::geometry::in_corridor;
 pub use crate::robot::hal::Bumper;
 use crate::robot::lidar::ld06::Ld06;
@@ -292,6 +298,12 @@ pub struct Mission {
     bump_replan: bool,
     /// The battery: its charge, and the phase to resume after charging.
     battery: battery::Charge,
+    /// The planning cells' covered layer holds an earlier run's progress
+    /// ([`Mission::restore_progress`]): the lanes plan only the rest.
+    restored: bool,
+    /// The restored progress has the edge pass's too: the caller restores
+    /// it once the edge pass has started ([`Mission::wants_edge_progress`]).
+    edge_progress_pending: bool,
 }
 
 /// The executive at work on the caller's buffers `P` (the planning side).
@@ -366,6 +378,8 @@ impl Mission {
             lost_since_us: 0,
             bump_replan: false,
             battery: battery::Charge::new(),
+            restored: false,
+            edge_progress_pending: false,
         }
     }
 
@@ -491,48 +505,6 @@ impl Mission {
     /// The odometry pose.
     pub fn pose(&self) -> Pose {
         self.drive.odom.pose()
-    }
-
-    /// For diagnosis: unmapped lidar points in the corridor ahead of the
-    /// current sub-path, and how far the guard would let the robot drive
-    /// toward its end (mm).
-    pub fn corridor_status(&self) -> (usize, i64) {
-        let Some((seg, _)) = self.queue.front() else {
-            return (0, 0);
-        };
-        let pose = self.drive.odom.pose();
-        let here = (pose.x_mm, pose.y_mm);
-        let (reach, _, ahead) = self.corridor(here, seg.to);
-        let n = self
-            .points_where(false)
-            .filter(|&q| in_corridor(here, ahead, q, reach))
-            .count();
-        (n, self.free_toward(here, seg.to))
-    }
-
-    /// For diagnosis: the lidar points within `r_mm` of the robot (world
-    /// mm, mapped or not).
-    pub fn points_near(&self, r_mm: i64) -> impl Iterator<Item = (i32, i32, bool)> + '_ {
-        let pose = self.drive.odom.pose();
-        self.lidar
-            .ring
-            .as_slice()
-            .iter()
-            .copied()
-            .filter(move |&(x, y, _)| {
-                let (dx, dy) = ((x - pose.x_mm) as i64, (y - pose.y_mm) as i64);
-                dx * dx + dy * dy < r_mm * r_mm
-            })
-    }
-
-    /// The last DWA command (v mm/s, ω mrad/s) while avoiding.
-    pub fn dwa_command(&self) -> (i32, i32) {
-        self.dwa_cmd
-    }
-
-    /// The straight sub-path being driven and whether it cleans.
-    pub fn current_subpath(&self) -> Option<(SubPath, bool)> {
-        self.queue.front()
     }
 
     /// Event counters.

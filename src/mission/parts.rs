@@ -6,10 +6,12 @@ use super::{Exec, Mission};
 use crate::coverage::{Coverage, PlanStats};
 use crate::grid::{Cell, Grid, Layer};
 use crate::localize::ScanMatcher;
+use crate::nav::cspace;
 use crate::robot::hal::Storage;
 use crate::robot::lidar_map::EvidenceMap;
 use crate::robot::map_image::MapImageError;
 use crate::robot::odometry::Pose;
+use crate::robot::progress_image;
 use crate::search::WindowSearch;
 
 /// The big buffers the executive works in, owned by the caller (statics
@@ -57,6 +59,32 @@ pub trait MissionParts {
     /// Saves the evidence map and the `dock` pose on it to `store`, for
     /// the next run ([`crate::robot::map_image`]); the bytes written.
     fn save_map(&self, dock: Pose, store: &mut dyn Storage) -> Result<u32, MapImageError>;
+    /// Saves the map (as [`MissionParts::save_map`]) and after it the
+    /// cleaning progress: the planning cells cleaned, less those whose
+    /// lanes are still queued ([`crate::robot::progress_image`]). For a
+    /// reset mid-mission; the bytes written.
+    fn save_progress(
+        &self,
+        m: &Mission,
+        dock: Pose,
+        store: &mut dyn Storage,
+    ) -> Result<u32, MapImageError>;
+    /// After [`Mission::begin`] on a map loaded from `store`: marks the
+    /// planning cells its saved progress says are clean, so the mission
+    /// cleans only the rest. Returns the cells marked.
+    fn restore_progress(
+        &mut self,
+        m: &mut Mission,
+        store: &mut dyn Storage,
+    ) -> Result<u32, MapImageError>;
+    /// Once the edge pass has started on a restored progress
+    /// ([`Mission::wants_edge_progress`]): marks the contour cells the
+    /// saved run's edge pass had cleaned. Returns the cells marked.
+    fn restore_edge_progress(
+        &mut self,
+        m: &mut Mission,
+        store: &mut dyn Storage,
+    ) -> Result<u32, MapImageError>;
     /// For diagnosis: the coverage planner's counters and position.
     fn planner_view(&self) -> PlannerView;
     /// For diagnosis: planning cell (x, y) as (blocked, covered); `None`
@@ -77,6 +105,14 @@ pub struct PlannerView {
     pub list_len: usize,
 }
 
+sized_impl!([Parts<'_, N, NW, OPEN, LCAP, PCAP, FW, EV, MW>] {
+    /// Where the progress image starts: after the map image of this map.
+    fn progress_at(&self) -> u32 {
+        let n = crate::robot::map_image::HEADER_BYTES + self.map.cell_bytes().len() as u32;
+        progress_image::offset_after(n)
+    }
+});
+
 sized_impl!([MissionParts for Parts<'_, N, NW, OPEN, LCAP, PCAP, FW, EV, MW>] {
     fn begin(&mut self, m: &mut Mission, start: Pose) {
         Exec { m, p: self }.begin(start);
@@ -92,6 +128,59 @@ sized_impl!([MissionParts for Parts<'_, N, NW, OPEN, LCAP, PCAP, FW, EV, MW>] {
 
     fn save_map(&self, dock: Pose, store: &mut dyn Storage) -> Result<u32, MapImageError> {
         crate::robot::map_image::save(self.map, dock, store)
+    }
+
+    fn save_progress(
+        &self,
+        m: &Mission,
+        dock: Pose,
+        store: &mut dyn Storage,
+    ) -> Result<u32, MapImageError> {
+        let n = crate::robot::map_image::save(self.map, dock, store)?;
+        let at = progress_image::offset_after(n);
+        let cell = m.cfg.plan_cell_mm;
+        let map = &*self.map;
+        let pending = |x: i32, y: i32| {
+            let ends = m.queue.iter().filter(|&(_, c)| c).map(|(s, _)| s.to);
+            let fed = m.feed.filter(|f| f.cover).and_then(|f| f.then);
+            ends.chain(fed)
+                .any(|(px, py)| cspace::coarse_of(map, cell, px, py) == (x, y))
+        };
+        let g = &*self.coarse;
+        let clean = |x: i32, y: i32| g.get(Layer::Covered, x, y) && !pending(x, y);
+        let mut end = at + progress_image::save(g, cell, clean, store, at)?;
+        if m.phase == super::Phase::Edge && m.fine_is_edge {
+            // The edge pass's own progress: its visited contour cells.
+            let f = &*self.fine;
+            let at = progress_image::offset_after(end);
+            let visited = |x: i32, y: i32| f.get(Layer::Covered, x, y);
+            end = at + progress_image::save(f, self.map.res_mm(), visited, store, at)?;
+        }
+        Ok(end)
+    }
+
+    fn restore_progress(
+        &mut self,
+        m: &mut Mission,
+        store: &mut dyn Storage,
+    ) -> Result<u32, MapImageError> {
+        let at = self.progress_at();
+        let marked = progress_image::load(self.coarse, m.cfg.plan_cell_mm, store, at)?;
+        m.restored = true;
+        let edges = progress_image::offset_after(at + progress_image::bytes(self.coarse));
+        m.edge_progress_pending = progress_image::present(store, edges);
+        Ok(marked)
+    }
+
+    fn restore_edge_progress(
+        &mut self,
+        m: &mut Mission,
+        store: &mut dyn Storage,
+    ) -> Result<u32, MapImageError> {
+        m.edge_progress_pending = false;
+        let at = self.progress_at();
+        let edges = progress_image::offset_after(at + progress_image::bytes(self.coarse));
+        progress_image::load(self.fine, self.map.res_mm(), store, edges)
     }
 
     fn planner_view(&self) -> PlannerView {

@@ -82,7 +82,10 @@ mod tests {
             let mv = cell_mv_at(pm);
             let back = charge_from_mv(4 * mv, 4) as i64;
             // Integer division loses at most a few ‰ on the steep ends.
-            assert!((back - pm as i64).abs() <= 5, "{pm} ‰ -> {mv} mV -> {back} ‰");
+            assert!(
+                (back - pm as i64).abs() <= 5,
+                "{pm} ‰ -> {mv} mV -> {back} ‰"
+            );
         }
     }
 

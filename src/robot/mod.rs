@@ -9,4 +9,5 @@ pub mod lidar;
 pub mod lidar_map;
 pub mod map_image;
 pub mod odometry;
+pub mod progress_image;
 pub mod wheel_control;

@@ -34,8 +34,9 @@ pub enum BenchCmd {
         runs: usize,
         #[arg(long, default_value_t = 1)]
         seed: u64,
-        /// Simulated time limit per mission, seconds.
-        #[arg(long, default_value_t = 5400.0)]
+        /// Limit on each mission's simulated cleaning time (charging does
+        /// not count), seconds.
+        #[arg(long, default_value_t = 10800.0)]
         max_time: f64,
         /// Worker threads (default: the machine's cores).
         #[arg(long)]

@@ -21,8 +21,9 @@ pub struct Args {
     pub noise: NoiseArg,
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Simulated time limit, seconds.
-    #[arg(long, default_value_t = 7200.0)]
+    /// Limit on the simulated cleaning time (charging on the dock does
+    /// not count), seconds.
+    #[arg(long, default_value_t = 21600.0)]
     pub max_time: f64,
     /// The dock X,Y in metres (default: a free spot near the centre).
     #[arg(long, value_parser = parse_point)]
@@ -79,6 +80,15 @@ pub struct Args {
     /// charge when its charge runs low and going on after.
     #[arg(long)]
     pub no_battery: bool,
+    /// Cut the power at this sim time (seconds), then put the robot back
+    /// on its dock and run again from what it saved (its map and which
+    /// floor it had cleaned): the second run cleans only what is left.
+    /// Prints both runs and the floor cleaned twice because of the reset.
+    #[arg(long, value_name = "S")]
+    pub power_loss_at: Option<f64>,
+    /// With --power-loss-at: how often the robot saves, sim seconds.
+    #[arg(long, value_name = "S", default_value_t = 60.0)]
+    pub save_every: f64,
     /// The battery's usable energy, Wh (default: the reference robot's
     /// 37.4 Wh pack): a smaller one makes a home need charges.
     #[arg(long, value_name = "WH")]
@@ -128,6 +138,9 @@ pub struct Args {
 /// Runs the command.
 pub fn run(a: Args) -> Result<(), String> {
     let opts = options(&a)?;
+    if let Some(at) = a.power_loss_at {
+        return super::power_loss::run(&a, &opts, at);
+    }
     let trace = cmd_mission(
         &opts,
         &a.map.map.display().to_string(),
@@ -186,6 +199,7 @@ fn options(a: &Args) -> Result<MissionOptions, String> {
                 .map(host_sim::io::store::MemStore::from_file)
                 .transpose()?,
             save: a.save_map.is_some(),
+            ..Default::default()
         },
         firmware_order: a.firmware_order,
         capacity: a.capacity,
@@ -225,6 +239,17 @@ fn check_times(a: &Args) -> Result<(), String> {
     }
     if a.home_at.is_some_and(|t| !(t.is_finite() && t >= 0.0)) {
         return Err("--home-at must be a time in seconds, 0 or more".into());
+    }
+    if a.power_loss_at.is_some_and(|t| !(t.is_finite() && t > 0.0))
+        || !(a.save_every.is_finite() && a.save_every >= 1.0)
+    {
+        return Err(
+            "--power-loss-at and --save-every must be times in seconds (saves 1 s apart at least)"
+                .into(),
+        );
+    }
+    if a.power_loss_at.is_some() && (a.pil || a.save_map.is_some()) {
+        return Err("--power-loss-at keeps its own saves: not with --pil or --save-map".into());
     }
     Ok(())
 }

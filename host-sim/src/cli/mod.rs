@@ -10,6 +10,7 @@ pub mod drive;
 pub mod lidar;
 pub mod mission;
 pub mod plan;
+pub mod power_loss;
 pub mod progress;
 pub mod scen;
 pub mod search;

@@ -66,6 +66,24 @@ pub trait Executive {
     fn save_map(&mut self, _dock: Pose, _store: &mut MemStore) -> Result<u32, String> {
         Err("the map is not saved over the sim link yet: run without --pil".into())
     }
+    /// Saves the map and the cleaning progress (for a power loss); the
+    /// bytes written.
+    fn save_progress(&mut self, _dock: Pose, _store: &mut MemStore) -> Result<u32, String> {
+        Err("the progress is not saved over the sim link yet: run without --pil".into())
+    }
+    /// Restores the progress saved with the map in `store`; the planning
+    /// cells marked clean.
+    fn restore_progress(&mut self, _store: &mut MemStore) -> Result<u32, String> {
+        Err("the progress is not restored over the sim link yet: run without --pil".into())
+    }
+    /// The edge pass started on a restored progress: restore its part now.
+    fn wants_edge_progress(&self) -> bool {
+        false
+    }
+    /// Restores the edge pass's saved progress; the cells marked.
+    fn restore_edge_progress(&mut self, _store: &mut MemStore) -> Result<u32, String> {
+        Ok(0)
+    }
     /// `ROBOVAC_DEBUG_TRACE` output: a collision.
     fn debug_collision(&self, _sim: &Sim) {}
     /// `ROBOVAC_DEBUG_TRACE` output: every simulated second.
@@ -111,6 +129,28 @@ impl Executive for Native<'_> {
         self.parts
             .save_map(dock, store)
             .map_err(|e| format!("map not saved: {e}"))
+    }
+
+    fn save_progress(&mut self, dock: Pose, store: &mut MemStore) -> Result<u32, String> {
+        self.parts
+            .save_progress(self.mission, dock, store)
+            .map_err(|e| format!("progress not saved: {e}"))
+    }
+
+    fn restore_progress(&mut self, store: &mut MemStore) -> Result<u32, String> {
+        self.mission
+            .restore_progress(self.parts, store)
+            .map_err(|e| format!("progress not restored: {e}"))
+    }
+
+    fn wants_edge_progress(&self) -> bool {
+        self.mission.wants_edge_progress()
+    }
+
+    fn restore_edge_progress(&mut self, store: &mut MemStore) -> Result<u32, String> {
+        self.mission
+            .restore_edge_progress(self.parts, store)
+            .map_err(|e| format!("edge progress not restored: {e}"))
     }
 
     fn request_home(&mut self) -> Result<(), String> {

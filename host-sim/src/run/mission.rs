@@ -6,6 +6,7 @@
 use std::time::Instant;
 
 use super::executive::{Executive, Native, Sensors};
+use super::measure::{finish_report, measure};
 pub use super::report_json::report_json;
 
 use robovac::coverage::PlannerKind;
@@ -45,7 +46,7 @@ pub struct MissionOptions {
     pub noise: Noise,
     /// Seed.
     pub seed: u64,
-    /// Simulated time limit, s.
+    /// Limit on the simulated cleaning time (charging not counted), s.
     pub max_time_s: f64,
     /// The dock (start), m; default: a free spot near the map's centre.
     pub start: Option<(f64, f64)>,
@@ -91,8 +92,8 @@ pub struct MissionOptions {
 
 impl MissionOptions {
     /// A mission of the usual kind on `map` (its own cell size, else
-    /// 0.1 m): B-OHA*, localisation and the bumper on, 90 minutes at
-    /// most, docked where the map says, no faults, zones or saved map.
+    /// 0.1 m): B-OHA*, localisation, the bumper and the reference
+    /// battery on, 3 hours of cleaning at most, docked where the map says, no faults, zones or saved map.
     pub fn new(map: MapData, mode: MapMode, people: usize, noise: Noise, seed: u64) -> Self {
         Self {
             cell_m: map.cell_m.unwrap_or(0.1),
@@ -101,7 +102,7 @@ impl MissionOptions {
             people,
             noise,
             seed,
-            max_time_s: 5400.0,
+            max_time_s: 10800.0,
             start: None,
             kind: PlannerKind::BOha,
             lidar_gap_s: None,
@@ -210,7 +211,7 @@ pub struct MissionReport {
     /// Sim time the robot spent lost (braked, relocalising), s.
     pub lost_time_s: f64,
     #[serde(skip)]
-    err_sq: (f64, f64, u64),
+    pub(crate) err_sq: (f64, f64, u64),
     /// Simulated time spent in each state, s.
     pub state_time_s: std::collections::BTreeMap<String, f64>,
     /// The owner's no-go zones and virtual walls, kept to or not.
@@ -255,8 +256,12 @@ pub struct MissionTrace {
     pub kidnap: Option<(f64, (f64, f64, f64))>,
     /// The owner's no-go zones and virtual walls.
     pub zones: Vec<Zone>,
-    /// The map saved at the end ([`MapStore::save`]), and its bytes.
+    /// The map saved at the end ([`MapStore::save`]), or the last map and
+    /// progress saved ([`MapStore::progress_every_s`]), and its bytes.
     pub saved_map: Option<(MemStore, u32)>,
+    /// Cells a restored progress marked clean: planning cells, and the
+    /// edge pass's contour cells.
+    pub restored_cells: u32,
 }
 
 /// Runs a mission; `progress(sim_s, state, coverage)` is called about
@@ -347,6 +352,12 @@ pub(crate) fn drive(
         zones: sim.world.zones.clone(),
         ..Default::default()
     };
+    if let (true, Some(store)) = (opts.map_store.restore_progress, &opts.map_store.load) {
+        // A progress the robot cannot read (damaged, another map's): it
+        // cleans the whole home again, as the robot would.
+        trace.restored_cells = mission.restore_progress(&mut store.clone()).unwrap_or(0);
+    }
+    let dock = given_dock(opts, pose);
     let max_us = (opts.max_time_s * 1e6) as u64;
     let mut next_progress = 10_000_000u64;
     let trace_on = std::env::var_os("ROBOVAC_DEBUG_TRACE").is_some();
@@ -366,9 +377,10 @@ pub(crate) fn drive(
             mission.request_home()?;
         }
         control_period(sim, mission, opts, &mut inject, &mut power)?;
-        if power.flat() {
+        if power.flat() || power_cut(opts, sim.t_us) {
             break;
         }
+        keep_progress(opts, sim.t_us, mission, dock, &mut trace)?;
         while let Some(e) = mission.pop_event() {
             trace.events.push(e);
         }
@@ -389,17 +401,12 @@ pub(crate) fn drive(
     mission.end()?;
     if opts.map_store.save && mission.finished() {
         let mut store = MemStore::erased();
-        let n = mission.save_map(given_dock(opts, pose), &mut store)?;
+        let n = mission.save_map(dock, &mut store)?;
         trace.saved_map = Some((store, n));
     }
     mission.debug_grid(true);
     finish_report(&mut rep, mission, sim, floor, pose, &cfg);
-    rep.battery = super::power::BatteryFigures::of(&power);
-    rep.charging_time_s = charging_s(&rep);
-    rep.cleaning_time_s = rep.sim_time_s - rep.charging_time_s;
-    if power.flat() {
-        rep.faults.push(("battery ran flat".to_string(), 1));
-    }
+    battery_report(&mut rep, &power);
     trace.truth = std::mem::take(&mut sim.trajectory);
     rep.injected = inject.done;
     rep.silence_stop_ms = opts
@@ -412,6 +419,63 @@ pub(crate) fn drive(
         .map(|c| (c.pos, c.by_person))
         .collect();
     Ok((rep, trace))
+}
+
+/// The power fails now ([`MapStore::power_loss_s`]).
+fn power_cut(opts: &MissionOptions, t_us: u64) -> bool {
+    opts.map_store
+        .power_loss_s
+        .is_some_and(|t| t_us >= (t * 1e6) as u64)
+}
+
+/// The battery's figures, and the cleaning time without charging.
+fn battery_report(rep: &mut MissionReport, power: &super::power::Power) {
+    rep.battery = super::power::BatteryFigures::of(power);
+    rep.charging_time_s = charging_s(rep);
+    rep.cleaning_time_s = rep.sim_time_s - rep.charging_time_s;
+    if power.flat() {
+        rep.faults.push(("battery ran flat".to_string(), 1));
+    }
+}
+
+/// The progress kept through a power loss: saved when due, and the edge
+/// pass's part restored once its pass has started.
+fn keep_progress(
+    opts: &MissionOptions,
+    t_us: u64,
+    mission: &mut dyn Executive,
+    dock: robovac::robot::odometry::Pose,
+    trace: &mut MissionTrace,
+) -> Result<(), String> {
+    save_due(opts, t_us, mission, dock, trace)?;
+    if let (true, Some(store)) = (mission.wants_edge_progress(), &opts.map_store.load) {
+        trace.restored_cells += mission
+            .restore_edge_progress(&mut store.clone())
+            .unwrap_or(0);
+    }
+    Ok(())
+}
+
+/// Every `progress_every_s`: the map and the progress saved, as the robot
+/// would to its store ([`MissionTrace::saved_map`] keeps the last).
+fn save_due(
+    opts: &MissionOptions,
+    t_us: u64,
+    mission: &mut dyn Executive,
+    dock: robovac::robot::odometry::Pose,
+    trace: &mut MissionTrace,
+) -> Result<(), String> {
+    let Some(every) = opts.map_store.progress_every_s else {
+        return Ok(());
+    };
+    let period_us = ((every * 1e6) as u64).max(10_000);
+    if t_us % period_us >= 10_000 || mission.state() == State::SelfTest {
+        return Ok(());
+    }
+    let mut store = MemStore::erased();
+    let n = mission.save_progress(dock, &mut store)?;
+    trace.saved_map = Some((store, n));
+    Ok(())
 }
 
 /// Time the executive has spent charging on the dock, s.
@@ -485,155 +549,4 @@ fn control_period(
         MotorCmd::Brake => sim.brake(),
     }
     Ok(())
-}
-
-/// Truth measurements after a period: time per state, floor swept,
-/// clearances, where avoidances started.
-fn measure(
-    sim: &Sim,
-    mission: &dyn Executive,
-    floor: &mut Floor,
-    rep: &mut MissionReport,
-    trace: &mut MissionTrace,
-    r: f64,
-) {
-    let key = match mission.state() {
-        State::Failed(_) => "Failed".to_string(),
-        s => format!("{s:?}"),
-    };
-    *rep.state_time_s.entry(key).or_insert(0.0) += sim.cfg.control_period_us as f64 * 1e-6;
-    let (x, y, _) = sim.pose;
-    floor.sweep(x, y);
-    pose_error(sim, mission, rep, trace);
-    let wall = sim.world.wall_distance(x, y, 1.0) - r;
-    rep.min_wall_clearance_m = rep.min_wall_clearance_m.min(wall);
-    let person = sim
-        .world
-        .people
-        .iter()
-        .map(|p| (p.pos.0 - x).hypot(p.pos.1 - y) - p.radius_m - r)
-        .fold(f64::INFINITY, f64::min);
-    rep.min_clearance_m = rep.min_clearance_m.min(wall.min(person));
-    if let Some(z) = rep.zones.as_mut() {
-        z.note(sim.world.zone_intrusion(x, y, r));
-    }
-    let c = mission.counters();
-    if c.avoidance_events as usize > trace.avoidances.len() {
-        trace.avoidances.push((x, y));
-    }
-}
-
-/// The estimate against the truth, accumulated every period.
-fn pose_error(
-    sim: &Sim,
-    mission: &dyn Executive,
-    rep: &mut MissionReport,
-    trace: &mut MissionTrace,
-) {
-    if mission.state() == State::SelfTest {
-        // Measured from the start of cleaning: the self-test's first
-        // revolution relocalises the dock pose a person gave within
-        // ±0.2 m and ±15°.
-        return;
-    }
-    let (x, y, th) = sim.pose;
-    let p = mission.pose();
-    let d = (x * 1000.0 - p.x_mm as f64).hypot(y * 1000.0 - p.y_mm as f64);
-    let e = th * 1000.0 - p.theta_mrad as f64;
-    let e = (e + std::f64::consts::PI * 1000.0).rem_euclid(std::f64::consts::TAU * 1000.0)
-        - std::f64::consts::PI * 1000.0;
-    rep.err_sq.0 += d * d;
-    rep.err_sq.1 += e * e;
-    rep.err_sq.2 += 1;
-    rep.pose_error_max_mm = rep.pose_error_max_mm.max(d);
-    rep.heading_error_max_mrad = rep.heading_error_max_mrad.max(e.abs());
-    if mission.lost() {
-        rep.lost_time_s += sim.cfg.control_period_us as f64 * 1e-6;
-    }
-    if sim.t_us.is_multiple_of(100_000) {
-        trace
-            .estimate
-            .push((p.x_mm as f64 / 1000.0, p.y_mm as f64 / 1000.0));
-    }
-}
-
-/// The report's end-of-mission fields.
-fn finish_report(
-    rep: &mut MissionReport,
-    mission: &dyn Executive,
-    sim: &Sim,
-    floor: &Floor,
-    (sx, sy, start_heading): (f64, f64, f64),
-    cfg: &RobotConfig,
-) {
-    let start = (sx, sy);
-    let r = cfg.diameter_m / 2.0;
-    let state = mission.state();
-    let c = mission.counters();
-    rep.finished = state == State::Done;
-    let (x, y, th) = sim.pose;
-    rep.returned_to_start = (x - start.0).hypot(y - start.1) < 0.15;
-    rep.dock_error_mm = (x - start.0).hypot(y - start.1) * 1000.0;
-    let dh = (th - start_heading + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
-        - std::f64::consts::PI;
-    rep.dock_heading_error_mrad = dh.abs() * 1000.0;
-    rep.docked = rep.dock_error_mm <= 50.0 && rep.dock_heading_error_mrad <= 52.4;
-    let n = rep.err_sq.2.max(1) as f64;
-    rep.pose_error_rms_mm = (rep.err_sq.0 / n).sqrt();
-    rep.heading_error_rms_mrad = (rep.err_sq.1 / n).sqrt();
-    rep.localization = mission.loc_stats();
-    let ps = mission.parser_stats();
-    rep.lidar_parser = LidarParser {
-        frames: ps.frames,
-        crc_failures: ps.crc_failures,
-        rejected: ps.rejected,
-        bytes_skipped: ps.bytes_skipped,
-    };
-    rep.coverage = floor.coverage();
-    rep.distance_m = sim.distance_m;
-    let swept = floor.swept_area_m2().max(1e-9);
-    rep.repetition = (rep.distance_m * cfg.diameter_m + std::f64::consts::PI * r * r) / swept - 1.0;
-    rep.collisions = sim
-        .collisions
-        .iter()
-        .filter(|c| !c.by_person && !c.unseen)
-        .count();
-    rep.bumper_contacts = sim.collisions.iter().filter(|c| c.unseen).count();
-    rep.person_contacts = sim.collisions.iter().filter(|c| c.by_person).count();
-    rep.avoidance_events = c.avoidance_events;
-    rep.sim_time_s = sim.t_us as f64 * 1e-6;
-    rep.ideal_time_s = rep.distance_m / cfg.clean_speed_m_s;
-    let (res, _, _) = floor.dims();
-    rep.floor_m2 = floor.floor_cells as f64 * res * res;
-    rep.floor_time_s = rep.floor_m2 / (cfg.diameter_m * cfg.clean_speed_m_s);
-    rep.final_state = format!("{state:?}");
-    rep.counters = c;
-    rep.charges = c.charges;
-    let pose = mission.pose();
-    rep.odometry_error_mm =
-        (x - pose.x_mm as f64 / 1000.0).hypot(y - pose.y_mm as f64 / 1000.0) * 1000.0;
-    rep.faults = faults(&c, state, rep.finished);
-    if rep.min_clearance_m.is_infinite() {
-        rep.min_clearance_m = 0.0;
-    }
-}
-
-/// Faults and notable events, counted.
-fn faults(c: &robovac::mission::Counters, state: State, finished: bool) -> Vec<(String, u64)> {
-    let mut faults = vec![
-        ("lidar_silences".to_string(), c.lidar_silences as u64),
-        ("stalls".to_string(), c.stalls as u64),
-        ("blocked_cells".to_string(), c.blocked_cells as u64),
-        ("skipped_subpaths".to_string(), c.skipped as u64),
-    ];
-    if c.battery_returns > 0 {
-        faults.push(("battery: cleaning cut short".to_string(), 1));
-    }
-    if let State::Failed(f) = state {
-        faults.push((format!("failed: {}", f.as_str()), 1));
-    }
-    if !finished && !matches!(state, State::Failed(_)) {
-        faults.push(("time limit".to_string(), 1));
-    }
-    faults
 }

@@ -20,6 +20,15 @@ pub struct MapStore {
     pub load: Option<MemStore>,
     /// Save the map when the mission finishes ([`MissionTrace::saved_map`]).
     pub save: bool,
+    /// Save the map and the cleaning progress this often (sim s), into
+    /// [`MissionTrace::saved_map`]: what survives a power loss.
+    pub progress_every_s: Option<f64>,
+    /// The power fails at this sim time (s): the mission stops there, as
+    /// it stands (not finished).
+    pub power_loss_s: Option<f64>,
+    /// The map loaded (`load`) carries a saved progress: restore it after
+    /// the mission begins, so only what is left is cleaned.
+    pub restore_progress: bool,
 }
 
 /// How far the robot keeps from the owner's zones beyond its body, m:

@@ -3,10 +3,11 @@
 //! a fuel gauge does (whole percent).
 //!
 //! The reference robot's figures, with their sources:
-//! - **Pack:** 4 cells in series of a 2,600 mAh 18650 NMC cell (Samsung
-//!   INR18650-26J datasheet: 2,600 mAh, 3.6 V nominal, 4.2 V charged):
-//!   14.4 V × 2.6 Ah = 37.4 Wh, the class of a Roomba 600's 14.4 V pack
-//!   (iRobot's 1,800 mAh Ni-MH or Li-ion replacement packs).
+//! - **Pack:** 2S2P of a 2,600 mAh 18650 NMC cell (Samsung INR18650-26J
+//!   datasheet: 2,600 mAh, 3.6 V nominal, 4.2 V charged): 7.2 V × 5.2 Ah
+//!   = 37.4 Wh, the energy of an entry robot vacuum's 14.4 V, 2,600 mAh
+//!   pack, in the two cells in series that the reference wiring reads
+//!   (`firmware/board/wiring.rs`: the TB6612's 13.5 V rules out a 4S).
 //! - **Suction, main and side brush:** 22 W while cleaning: an entry
 //!   robot vacuum's rating is 25–35 W in all (iRobot Roomba 600 series:
 //!   33 W; Eufy RoboVac 11S: 14.4 V, 2,600 mAh, "up to 100 min" on its
@@ -15,10 +16,10 @@
 //!   the F411, the motor driver's logic and the regulators' losses.
 //! - **Wheels:** 3 W per wheel at full duty, in proportion to the duty
 //!   (an N20-class 12 V gear motor near its rated load: 0.25 A).
-//! - **Charger:** 19 W into the pack (a 19 V, 1.25 A dock charging at 1.3 A,
-//!   0.5 C) up to 80 %, then tapering linearly to a tenth of that at
-//!   100 % (the constant-voltage stage of a Li-ion charge); the
-//!   electronics stay on from the dock.
+//! - **Charger:** 19 W into the pack (2.6 A at 7.2–8.4 V: 0.5 C) up to
+//!   80 %, then tapering linearly to a tenth of that at 100 % (the
+//!   constant-voltage stage of a Li-ion charge); the electronics stay on
+//!   from the dock.
 //!
 //! From full: about 80 minutes of cleaning; 10 % to 80 % in about 85
 //! minutes on the dock.

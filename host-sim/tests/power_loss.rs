@@ -1,0 +1,65 @@
+//! A power loss mid-mission: the robot saved its map and which floor it
+//! had cleaned every 60 s; after the reset it starts at its dock on the
+//! saved map and cleans only what is left. Checked on the truth.
+
+use host_sim::run::mission::MissionOptions;
+use host_sim::run::power_loss::run_power_loss;
+use host_sim::run::suite::suite_map;
+use host_sim::sim::robot::Noise;
+use robovac::mission::MapMode;
+
+fn studio() -> MissionOptions {
+    MissionOptions::new(
+        suite_map("studio").unwrap(),
+        MapMode::Known,
+        0,
+        Noise::Realistic,
+        2,
+    )
+}
+
+fn lanes_s(rep: &host_sim::run::mission::MissionReport) -> f64 {
+    ["Cover", "Transit"]
+        .iter()
+        .map(|k| rep.state_time_s.get(*k).copied().unwrap_or(0.0))
+        .sum()
+}
+
+#[test]
+fn after_a_power_loss_in_the_lanes_only_the_rest_is_cleaned() {
+    let pl = run_power_loss(&studio(), 300.0, 60.0, |_, _, _| {}).unwrap();
+    let (first, second) = (&pl.first.0, &pl.second.0);
+    let f = &pl.figures;
+    assert!(!first.finished && first.coverage > 0.3, "{first:?}");
+    assert!(second.finished && second.docked, "{second:?}");
+    assert!(f.cells_restored >= 50, "{f:?}");
+    assert!(f.coverage >= 0.97, "{f:?}");
+    // The lanes already cleaned are not driven again: both runs' lanes
+    // take about as long as the uninterrupted mission's.
+    let (both, once) = (lanes_s(first) + lanes_s(second), lanes_s(&pl.uninterrupted));
+    assert!(both < 1.25 * once, "{both} s of lanes against {once} s");
+    assert_eq!(second.collisions, 0);
+}
+
+#[test]
+fn a_power_loss_in_the_edge_pass_restores_its_progress_too() {
+    let pl = run_power_loss(&studio(), 1200.0, 60.0, |_, _, _| {}).unwrap();
+    let (first, second) = (&pl.first.0, &pl.second.0);
+    let edge = |r: &host_sim::run::mission::MissionReport| {
+        r.state_time_s.get("Edge").copied().unwrap_or(0.0)
+    };
+    assert!(
+        edge(first) > 0.0,
+        "the cut came in the edge pass: {first:?}"
+    );
+    assert!(second.finished && second.docked, "{second:?}");
+    assert!(pl.figures.coverage >= 0.97, "{:?}", pl.figures);
+    // Contour cells restored besides the planning cells (all clean).
+    let planning = first.floor_m2 / 0.09;
+    assert!(
+        pl.figures.cells_restored as f64 > planning,
+        "{:?}",
+        pl.figures
+    );
+    assert!(lanes_s(second) < 0.2 * lanes_s(first), "{second:?}");
+}

@@ -1,0 +1,49 @@
+//! For diagnosis: what the executive sees and does, read by the host's
+//! debug traces and the tests (nothing here changes the mission).
+
+use super::{in_corridor, Mission};
+use crate::nav::follow::SubPath;
+
+impl Mission {
+    /// For diagnosis: unmapped lidar points in the corridor ahead of the
+    /// current sub-path, and how far the guard would let the robot drive
+    /// toward its end (mm).
+    pub fn corridor_status(&self) -> (usize, i64) {
+        let Some((seg, _)) = self.queue.front() else {
+            return (0, 0);
+        };
+        let pose = self.drive.odom.pose();
+        let here = (pose.x_mm, pose.y_mm);
+        let (reach, _, ahead) = self.corridor(here, seg.to);
+        let n = self
+            .points_where(false)
+            .filter(|&q| in_corridor(here, ahead, q, reach))
+            .count();
+        (n, self.free_toward(here, seg.to))
+    }
+
+    /// For diagnosis: the lidar points within `r_mm` of the robot (world
+    /// mm, mapped or not).
+    pub fn points_near(&self, r_mm: i64) -> impl Iterator<Item = (i32, i32, bool)> + '_ {
+        let pose = self.drive.odom.pose();
+        self.lidar
+            .ring
+            .as_slice()
+            .iter()
+            .copied()
+            .filter(move |&(x, y, _)| {
+                let (dx, dy) = ((x - pose.x_mm) as i64, (y - pose.y_mm) as i64);
+                dx * dx + dy * dy < r_mm * r_mm
+            })
+    }
+
+    /// The last DWA command (v mm/s, ω mrad/s) while avoiding.
+    pub fn dwa_command(&self) -> (i32, i32) {
+        self.dwa_cmd
+    }
+
+    /// The straight sub-path being driven and whether it cleans.
+    pub fn current_subpath(&self) -> Option<(SubPath, bool)> {
+        self.queue.front()
+    }
+}
