@@ -273,12 +273,18 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
         grid: &mut Grid<GW>,
         start: Cell,
     ) -> Result<(), CoverageError> {
+        Self::check_start(grid, start)?;
+        grid.clear_layer(Layer::Covered);
+        self.start_keeping(grid, start)
+    }
+
+    /// A run can start at `start`: the grid fits, and the cell is free.
+    fn check_start<const GW: usize>(grid: &Grid<GW>, start: Cell) -> Result<(), CoverageError> {
         let (x, y) = start.xy();
         if grid.cells() > N || grid.is_blocked(x, y) {
             return Err(CoverageError::BadStart);
         }
-        grid.clear_layer(Layer::Covered);
-        self.start_keeping(grid, start)
+        Ok(())
     }
 
     /// Starts a run at `start` on a grid whose covered layer already
@@ -291,10 +297,8 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
         grid: &mut Grid<GW>,
         start: Cell,
     ) -> Result<(), CoverageError> {
+        Self::check_start(grid, start)?;
         let (x, y) = start.xy();
-        if grid.cells() > N || grid.is_blocked(x, y) {
-            return Err(CoverageError::BadStart);
-        }
         self.list.reset();
         self.path_len = 0;
         self.path_pos = 0;

@@ -112,24 +112,38 @@ pub fn save<const B: usize>(
     crc.update(head.get(..28).unwrap_or(&[]));
     store.erase()?;
     // The cells kept, a chunk at a time (the live map is left as it is).
+    write_chunks(store, HEADER_BYTES, n, &mut crc, |i| {
+        nibble(kept(map, 2 * i)) | (nibble(kept(map, 2 * i + 1)) << 4)
+    })?;
+    if let Some(c) = head.get_mut(28..32) {
+        c.copy_from_slice(&crc.finalize().to_le_bytes());
+    }
+    store.write(0, &head)?;
+    Ok(needed)
+}
+
+/// Writes `n` bytes at `offset` of `store`, byte `i` being `byte(i)`, a
+/// 64-byte chunk at a time, each into `crc` as well (the images' bodies).
+pub(crate) fn write_chunks(
+    store: &mut (impl Storage + ?Sized),
+    offset: u32,
+    n: u32,
+    crc: &mut crc::Digest<'_, u32>,
+    byte: impl Fn(usize) -> u8,
+) -> Result<(), StorageError> {
     let mut buf = [0u8; 64];
     let mut at = 0u32;
     while at < n {
         let len = (n - at).min(buf.len() as u32) as usize;
         let chunk = buf.get_mut(..len).unwrap_or(&mut []);
         for (k, b) in chunk.iter_mut().enumerate() {
-            let i = 2 * (at as usize + k);
-            *b = nibble(kept(map, i)) | (nibble(kept(map, i + 1)) << 4);
+            *b = byte(at as usize + k);
         }
         crc.update(chunk);
-        store.write(HEADER_BYTES + at, chunk)?;
+        store.write(offset + at, chunk)?;
         at += len as u32;
     }
-    if let Some(c) = head.get_mut(28..32) {
-        c.copy_from_slice(&crc.finalize().to_le_bytes());
-    }
-    store.write(0, &head)?;
-    Ok(needed)
+    Ok(())
 }
 
 /// A counter as its stored nibble.

@@ -20,7 +20,7 @@
 //! it is meant for has no valid header and is refused whole.
 
 use super::hal::Storage;
-use super::map_image::MapImageError;
+use super::map_image::{write_chunks, MapImageError};
 use crate::grid::{Grid, Layer};
 
 /// The image's first bytes.
@@ -70,23 +70,15 @@ pub fn save<const W: usize>(
     let mut head = header(cell_mm, w, h);
     let mut crc = CRC32.digest();
     crc.update(head.get(..12).unwrap_or(&[]));
-    let mut buf = [0u8; 64];
-    let mut at = 0u32;
-    while at < n {
-        let len = (n - at).min(buf.len() as u32) as usize;
-        let chunk = buf.get_mut(..len).unwrap_or(&mut []);
-        for (k, b) in chunk.iter_mut().enumerate() {
-            *b = (0..8).fold(0u8, |acc, bit| {
-                let i = (at as usize + k) * 8 + bit;
-                let (x, y) = ((i as u32 % w.max(1)) as i32, (i as u32 / w.max(1)) as i32);
-                let on = (y as u32) < h && clean(x, y);
-                acc | (u8::from(on) << bit)
-            });
-        }
-        crc.update(chunk);
-        store.write(offset + HEADER_BYTES + at, chunk)?;
-        at += len as u32;
-    }
+    let wide = w.max(1) as usize;
+    write_chunks(store, offset + HEADER_BYTES, n, &mut crc, |byte| {
+        (0..8).fold(0u8, |acc, bit| {
+            let i = byte * 8 + bit;
+            let (x, y) = (i % wide, i / wide);
+            let on = y < h as usize && clean(x as i32, y as i32);
+            acc | (u8::from(on) << bit)
+        })
+    })?;
     if let Some(c) = head.get_mut(12..16) {
         c.copy_from_slice(&crc.finalize().to_le_bytes());
     }

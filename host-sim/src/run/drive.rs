@@ -171,7 +171,8 @@ pub struct DriveOptions {
     pub evidence_mm: u32,
 }
 
-fn wrap(a: f64) -> f64 {
+/// An angle wrapped to −π..π, rad.
+pub(crate) fn wrap(a: f64) -> f64 {
     (a + std::f64::consts::PI).rem_euclid(2.0 * std::f64::consts::PI) - std::f64::consts::PI
 }
 

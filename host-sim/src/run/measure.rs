@@ -95,8 +95,7 @@ pub(crate) fn finish_report(
     let (x, y, th) = sim.pose;
     rep.returned_to_start = (x - start.0).hypot(y - start.1) < 0.15;
     rep.dock_error_mm = (x - start.0).hypot(y - start.1) * 1000.0;
-    let dh = (th - start_heading + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
-        - std::f64::consts::PI;
+    let dh = super::drive::wrap(th - start_heading);
     rep.dock_heading_error_mrad = dh.abs() * 1000.0;
     rep.docked = rep.dock_error_mm <= 50.0 && rep.dock_heading_error_mrad <= 52.4;
     let n = rep.err_sq.2.max(1) as f64;

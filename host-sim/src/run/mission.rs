@@ -438,8 +438,10 @@ fn battery_report(rep: &mut MissionReport, power: &super::power::Power) {
     }
 }
 
-/// The progress kept through a power loss: saved when due, and the edge
-/// pass's part restored once its pass has started.
+/// The progress kept through a power loss: every `progress_every_s` the
+/// map and the progress saved, as the robot would to its store
+/// ([`MissionTrace::saved_map`] keeps the last); and the edge pass's part
+/// restored once its pass has started.
 fn keep_progress(
     opts: &MissionOptions,
     t_us: u64,
@@ -447,34 +449,19 @@ fn keep_progress(
     dock: robovac::robot::odometry::Pose,
     trace: &mut MissionTrace,
 ) -> Result<(), String> {
-    save_due(opts, t_us, mission, dock, trace)?;
+    if let Some(every) = opts.map_store.progress_every_s {
+        let period_us = ((every * 1e6) as u64).max(10_000);
+        if t_us % period_us < 10_000 && mission.state() != State::SelfTest {
+            let mut store = MemStore::erased();
+            let n = mission.save_progress(dock, &mut store)?;
+            trace.saved_map = Some((store, n));
+        }
+    }
     if let (true, Some(store)) = (mission.wants_edge_progress(), &opts.map_store.load) {
         trace.restored_cells += mission
             .restore_edge_progress(&mut store.clone())
             .unwrap_or(0);
     }
-    Ok(())
-}
-
-/// Every `progress_every_s`: the map and the progress saved, as the robot
-/// would to its store ([`MissionTrace::saved_map`] keeps the last).
-fn save_due(
-    opts: &MissionOptions,
-    t_us: u64,
-    mission: &mut dyn Executive,
-    dock: robovac::robot::odometry::Pose,
-    trace: &mut MissionTrace,
-) -> Result<(), String> {
-    let Some(every) = opts.map_store.progress_every_s else {
-        return Ok(());
-    };
-    let period_us = ((every * 1e6) as u64).max(10_000);
-    if t_us % period_us >= 10_000 || mission.state() == State::SelfTest {
-        return Ok(());
-    }
-    let mut store = MemStore::erased();
-    let n = mission.save_progress(dock, &mut store)?;
-    trace.saved_map = Some((store, n));
     Ok(())
 }
 

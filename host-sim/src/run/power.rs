@@ -36,8 +36,7 @@ impl Power {
         };
         let (x, y, th) = sim.pose;
         let (dx, dy, dth) = self.dock;
-        let dh = (th - dth + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
-            - std::f64::consts::PI;
+        let dh = super::drive::wrap(th - dth);
         let on = (x - dx).hypot(y - dy) <= CONTACT_M && dh.abs() <= CONTACT_RAD;
         b.step(dt_s, sim.duty(), on);
     }
