@@ -133,7 +133,7 @@ mod app {
     use cortex_m::peripheral::DWT;
     use robovac::capacity::{
         FwEvidence, FwFineGrid, FwMatcher, FwPlanGrid, FwPlanner, FwWindow, FW_FINE_PATH,
-        FW_HOME_SIDE,
+        FW_HOME_SIDE, FW_PLAN_CELLS,
     };
     use robovac::coverage::PlannerKind;
     use robovac::mission::MotorCmd;
@@ -172,6 +172,7 @@ mod app {
         map: FwEvidence = FwEvidence::new(),
         path: [Cell; FW_FINE_PATH] = [Cell::new(0, 0); FW_FINE_PATH],
         matcher: FwMatcher = FwMatcher::new(),
+        rooms: [u8; FW_PLAN_CELLS] = [0; FW_PLAN_CELLS],
     ])]
     fn init(cx: init::Context) -> (Shared, Local) {
         super::super::stack::paint();
@@ -239,6 +240,7 @@ mod app {
             map: l.map,
             path: &mut l.path[..],
             matcher: l.matcher,
+            rooms: &mut l.rooms[..],
         };
         let mut store = FlashStore::new(dp.FLASH);
         let saved_dock = load_map(&mut store, l.mission, parts.map);

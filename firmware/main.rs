@@ -35,6 +35,7 @@ mod pil_entry {
     use panic_probe as _;
     use robovac::capacity::{
         FwEvidence, FwFineGrid, FwMatcher, FwPlanGrid, FwPlanner, FwWindow, FW_FINE_PATH,
+        FW_PLAN_CELLS,
     };
     use robovac::coverage::PlannerKind;
     use robovac::mission::{MapMode, Mission, MissionConfig};
@@ -73,6 +74,7 @@ mod pil_entry {
         static mut MAP: FwEvidence = FwEvidence::new();
         static mut PATH: [Cell; FW_FINE_PATH] = [Cell::new(0, 0); FW_FINE_PATH];
         static mut MATCHER: FwMatcher = FwMatcher::new();
+        static mut ROOMS: [u8; FW_PLAN_CELLS] = [0; FW_PLAN_CELLS];
 
         stack::paint();
         let mut cp = match cortex_m::Peripherals::take() {
@@ -98,6 +100,7 @@ mod pil_entry {
             map: MAP,
             path: PATH,
             matcher: MATCHER,
+            rooms: ROOMS,
         };
         pil::run(buffers, &mut link, &meter)
     }

@@ -15,7 +15,7 @@ use super::stack;
 use super::status::{self, STATUS_US};
 use robovac::capacity::{
     FwEvidence, FwFineGrid, FwMatcher, FwParts, FwPlanGrid, FwPlanner, FwWindow, FW_FINE_CELLS,
-    FW_FINE_PATH, FW_MISSION_BYTES,
+    FW_FINE_PATH, FW_MISSION_BYTES, FW_PLAN_CELLS,
 };
 use robovac::link::msg::{unpack_cell, Down, Ready, Report, StepMsg, TaskCost, Tick, Up};
 use robovac::mission::{Mission, MissionParts, MotorCmd, Reflex};
@@ -43,6 +43,8 @@ pub struct Buffers {
     pub path: &'static mut [Cell; FW_FINE_PATH],
     /// The scan matcher.
     pub matcher: &'static mut FwMatcher,
+    /// The planning cells' rooms.
+    pub rooms: &'static mut [u8; FW_PLAN_CELLS],
 }
 
 /// Waits for a Hello from the host and runs its mission; then resets the
@@ -77,6 +79,7 @@ pub fn run(b: Buffers, link: &mut SimLink, meter: &Meter) -> ! {
             map: &mut *b.map,
             path: &mut b.path[..],
             matcher: &mut *b.matcher,
+            rooms: &mut b.rooms[..],
         };
         defmt::info!("map loaded; mission begins");
         b.mission.begin(&mut parts, h.dock);

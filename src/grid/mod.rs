@@ -5,6 +5,7 @@
 pub mod los;
 pub mod maps;
 pub mod occupancy;
+pub mod rooms;
 pub mod zones;
 
 pub use occupancy::{Cell, Grid, GridError, Layer};

@@ -393,6 +393,9 @@ pub struct Counters {
     /// fit in one fine search window, or the window held no way between
     /// them ([`super::route`]).
     pub routes: u32,
+    /// Rooms entered, the first one included (0 without a room tour,
+    /// [`super::rooms`]).
+    pub rooms_entered: u32,
 }
 
 impl Counters {
@@ -420,6 +423,7 @@ impl Counters {
             handoff_dropped: 0,
             events_dropped: 0,
             routes: 0,
+            rooms_entered: 0,
         }
     }
 }

@@ -45,7 +45,7 @@ sized_impl!([] {
         }
         self.top_up_cover();
         let m = &mut *self.m;
-        if m.planner_done && m.queue.is_empty() && m.feed.is_none() {
+        if m.planner_done && m.queue.is_empty() && m.feed.is_none() && !self.next_room() {
             self.start_edge(pose);
         }
     }
@@ -72,6 +72,7 @@ sized_impl!([] {
             self.fail(Fault::Capacity);
             return;
         }
+        self.fence();
         let (x, y) = self.p.planner.position().xy();
         let _ = self.p.coarse.set_obstacle(x, y, false);
         self.m.note_coarse_set(x, y);
@@ -111,6 +112,7 @@ sized_impl!([] {
             self.fail(Fault::StartBlocked);
             return;
         }
+        self.enter_first_room(start);
         let m = &mut *self.m;
         m.queue.reset((pose.x_mm, pose.y_mm));
         m.phase = Phase::Cover;

@@ -121,6 +121,7 @@ mod locate;
 mod plan;
 mod progress;
 mod recover;
+mod rooms;
 mod route;
 
 pub mod config;
@@ -304,6 +305,8 @@ pub struct Mission {
     /// The restored progress has the edge pass's too: the caller restores
     /// it once the edge pass has started ([`Mission::wants_edge_progress`]).
     edge_progress_pending: bool,
+    /// The rooms and which are open ([`rooms`]).
+    rooms: rooms::RoomTour,
 }
 
 /// The executive at work on the caller's buffers `P` (the planning side).
@@ -380,6 +383,7 @@ impl Mission {
             battery: battery::Charge::new(),
             restored: false,
             edge_progress_pending: false,
+            rooms: rooms::RoomTour::new(),
         }
     }
 

@@ -44,6 +44,9 @@ pub struct Parts<
     pub path: &'a mut [Cell],
     /// The scan matcher's points and coarse levels.
     pub matcher: &'a mut ScanMatcher<MW>,
+    /// The planning cells' rooms, a byte a cell ([`crate::grid::rooms`];
+    /// known mode). Shorter than the planning grid: no room tour.
+    pub rooms: &'a mut [u8],
 }
 
 /// What the entry points of [`Mission`] need of the caller's buffers.
@@ -90,6 +93,10 @@ pub trait MissionParts {
     /// For diagnosis: planning cell (x, y) as (blocked, covered); `None`
     /// off the planning grid.
     fn planning_cell(&self, x: i32, y: i32) -> Option<(bool, bool)>;
+    /// The planning grid's width and height, cells.
+    fn planning_size(&self) -> (u32, u32);
+    /// The room of planning cell (x, y) ([`crate::grid::rooms`]; 0: none).
+    fn room_of(&self, x: i32, y: i32) -> u8;
 }
 
 /// For diagnosis: what the coverage planner is doing.
@@ -196,5 +203,14 @@ sized_impl!([MissionParts for Parts<'_, N, NW, OPEN, LCAP, PCAP, FW, EV, MW>] {
         let g = &*self.coarse;
         g.contains(x, y)
             .then(|| (g.is_blocked(x, y), g.get(Layer::Covered, x, y)))
+    }
+
+    fn planning_size(&self) -> (u32, u32) {
+        (self.coarse.width(), self.coarse.height())
+    }
+
+    fn room_of(&self, x: i32, y: i32) -> u8 {
+        let i = self.coarse.index(x, y);
+        i.and_then(|i| self.rooms.get(i)).copied().unwrap_or(0)
     }
 });

@@ -30,6 +30,10 @@ sized_impl!([] {
         let r = (cfg.radius_mm + cfg.margin_mm) as u32;
         let ok = cspace::size_coarse(self.p.map, self.p.coarse, cfg.plan_cell_mm).is_ok()
             && cspace::update_coarse(self.p.map, self.p.coarse, cfg.plan_cell_mm, r, false).is_ok();
+        if ok && cfg.mode == MapMode::Known {
+            self.split_rooms();
+        }
+        let m = &mut *self.m;
         m.phase = if ok {
             Phase::SelfTestScan { since_us: 0 }
         } else {

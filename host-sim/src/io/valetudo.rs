@@ -18,16 +18,15 @@ use serde::Deserialize;
 
 use super::maps::{GreyImage, MapData, MapError};
 
-/// A room: its id, its name when given, its cells (column, row from the
-/// top).
+/// A room: its id, its name when given, its pixels.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Room {
     /// Segment id.
     pub id: u32,
     /// Name, when the file gives one.
     pub name: Option<String>,
-    /// Cells (column, row from the top).
-    pub cells: Vec<(u32, u32)>,
+    /// The centres of its pixels, world metres.
+    pub points_m: Vec<(f64, f64)>,
 }
 
 /// What a ValetudoMap adds to the floor plan (metres, in the map's world
@@ -191,7 +190,10 @@ pub fn parse_valetudo(path: &Path, bytes: &[u8], cell_m: Option<f64>) -> Result<
             .map(|(id, name, px)| Room {
                 id,
                 name,
-                cells: px.iter().filter_map(|&(x, y)| frame.cell(x, y)).collect(),
+                points_m: px
+                    .iter()
+                    .filter_map(|&(x, y)| frame.centre_m(x, y))
+                    .collect(),
             })
             .collect(),
         ..entities(&raw.entities, &frame)
@@ -252,6 +254,16 @@ impl Frame {
     fn cell(&self, x: i64, y: i64) -> Option<(u32, u32)> {
         let (c, r) = (x - self.x0, y - self.y0);
         (c >= 0 && r >= 0 && c < self.w && r < self.h).then_some((c as u32, r as u32))
+    }
+
+    /// World metres of a map pixel's centre, when inside the frame.
+    fn centre_m(&self, x: i64, y: i64) -> Option<(f64, f64)> {
+        let (c, r) = self.cell(x, y)?;
+        let res = self.px_cm / 100.0;
+        Some((
+            (c as f64 + 0.5) * res,
+            (self.h as f64 - r as f64 - 0.5) * res,
+        ))
     }
 
     fn index(&self, x: i64, y: i64) -> Option<usize> {

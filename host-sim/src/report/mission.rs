@@ -97,6 +97,27 @@ fn zones_svg(c: &mut Canvas, zones: &[robovac::grid::Zone]) {
     }
 }
 
+/// The rooms tinted, one hue each, over the swept floor; runs of one
+/// room in a row of planning cells, one rectangle each.
+fn rooms_svg(c: &mut Canvas, rooms: &crate::run::rooms::RoomView) {
+    let (s, k) = (c.s, rooms.cell_m * c.s);
+    let dy = rooms.map_h_m - c.h_m;
+    let (w, h) = (rooms.size.0 as usize, rooms.size.1 as usize);
+    for (y, row) in rooms.labels.chunks(w.max(1)).take(h).enumerate() {
+        let mut x = 0;
+        while x < row.len() {
+            let id = row[x];
+            let run = row[x..].iter().take_while(|&&l| l == id).count();
+            if id != 0 {
+                let hue = (id as u32 * 137) % 360;
+                let px = (x as f64 * k, y as f64 * k - dy * s, run as f64 * k, k);
+                c.rect_px(px, &format!("hsl({hue},70%,55%)"), r#" opacity="0.3""#);
+            }
+            x += run;
+        }
+    }
+}
+
 /// The mission as an SVG: the ground truth, the swept floor shaded (missed
 /// reachable floor in red), the trajectory, people's tracks, avoidances
 /// (blue rings) and collisions (red crosses: the robot's; orange: a person
@@ -130,6 +151,9 @@ pub fn mission_svg(
             }
             x = x1;
         }
+    }
+    if let Some(rooms) = &t.rooms {
+        rooms_svg(&mut c, rooms);
     }
     c.blocked(map, cell_m, "#555");
     for track in &t.people {

@@ -167,6 +167,10 @@ pub struct MissionReport {
     pub charging_time_s: f64,
     /// Charges: home with the battery low, charged, and on again.
     pub charges: u32,
+    /// The rooms: found, entered, and their agreement with the vendor's
+    /// segments (None: no room tour).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rooms: Option<super::rooms::RoomFigures>,
     /// The twin's battery (None: none).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub battery: Option<super::power::BatteryFigures>,
@@ -262,6 +266,8 @@ pub struct MissionTrace {
     /// Cells a restored progress marked clean: planning cells, and the
     /// edge pass's contour cells.
     pub restored_cells: u32,
+    /// The rooms the executive found (known mode).
+    pub rooms: Option<super::rooms::RoomView>,
 }
 
 /// Runs a mission; `progress(sim_s, state, coverage)` is called about
@@ -321,8 +327,12 @@ pub fn run_mission(
         parts,
         firmware_order: opts.firmware_order,
     };
-    let (mut rep, trace) = drive(opts, &mut sim, &mut floor, &mut exec, pose, progress)?;
+    let (mut rep, mut trace) = drive(opts, &mut sim, &mut floor, &mut exec, pose, progress)?;
     rep.wall_time_s = t0.elapsed().as_secs_f64();
+    let cell_mm = mission_config(opts, &cfg, r).plan_cell_mm;
+    let map_h_m = super::rooms::evidence_h_m(sim.world.size_m().1, EVIDENCE_MM);
+    trace.rooms = super::rooms::RoomView::of(&*exec.parts, cell_mm, map_h_m);
+    rep.rooms = super::rooms::RoomFigures::of(&opts.map, trace.rooms.as_ref(), &rep.counters);
     Ok((rep, trace, floor))
 }
 

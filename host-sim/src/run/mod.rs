@@ -16,4 +16,5 @@ pub mod plan;
 pub mod power;
 pub mod power_loss;
 mod report_json;
+pub mod rooms;
 pub mod suite;

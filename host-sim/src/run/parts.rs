@@ -4,7 +4,7 @@
 //! the ones its own buffers give.
 
 use robovac::capacity::{
-    FwEvidence, FwFineGrid, FwMatcher, FwPlanGrid, FwPlanner, FwWindow, FW_FINE_PATH,
+    FwEvidence, FwFineGrid, FwMatcher, FwPlanGrid, FwPlanner, FwWindow, FW_FINE_PATH, FW_PLAN_CELLS,
 };
 use robovac::coverage::PlannerKind;
 use robovac::mission::Parts;
@@ -36,6 +36,8 @@ pub struct HostParts {
     pub map: Box<EvidenceMap<HOST_EVIDENCE>>,
     path: Vec<Cell>,
     matcher: Box<HostMatcher>,
+    /// The planning cells' rooms.
+    pub rooms: Vec<u8>,
 }
 
 impl HostParts {
@@ -49,6 +51,7 @@ impl HostParts {
             map: Box::new(EvidenceMap::new()),
             path: vec![Cell::default(); 1 << 18],
             matcher: Box::new(HostMatcher::new()),
+            rooms: vec![0; crate::capacity::HOST_CELLS],
         }
     }
 }
@@ -63,6 +66,8 @@ pub struct FwHostParts {
     pub map: Box<FwEvidence>,
     path: Vec<Cell>,
     matcher: Box<FwMatcher>,
+    /// The planning cells' rooms.
+    pub rooms: Vec<u8>,
 }
 
 impl FwHostParts {
@@ -76,6 +81,7 @@ impl FwHostParts {
             map: Box::new(FwEvidence::new()),
             path: vec![Cell::default(); FW_FINE_PATH],
             matcher: Box::new(FwMatcher::new()),
+            rooms: vec![0; FW_PLAN_CELLS],
         }
     }
 }
@@ -94,6 +100,7 @@ macro_rules! lend {
                     map: &mut self.map,
                     path: &mut self.path,
                     matcher: &mut self.matcher,
+                    rooms: &mut self.rooms,
                 }
             }
         }
