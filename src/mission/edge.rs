@@ -4,7 +4,19 @@
 use super::{Fault, MapMode, Phase, HOME_TRIES};
 use crate::nav::cspace;
 use crate::nav::edge::{EdgePass, EdgeStep};
-use crate::nav::geometry::nearest_free_fine_within;
+use crate::nav::geometry::{fine_segment_clear, nearest_free_fine_within};
+
+/// How far the edge pass's chords may stray from the contour, mm: a
+/// staircase of 5 cm cells along a slanted wall stays within 35 mm of its
+/// chord; the strip along the wall loses at most this much.
+const EDGE_CHORD_TOL_MM: i64 = 40;
+
+/// How far a transit's chords may stray from the searched path of cells,
+/// mm: a diagonal staircase becomes one line (it strays 35 mm). Unbounded,
+/// the lines cut farther from the searched path, and at the chip's
+/// capacity the office's edge pass ended in a loop of routes and re-plans
+/// until the battery ran flat (not yet understood; kept bounded).
+const TRANSIT_CHORD_TOL_MM: i64 = 75;
 use crate::robot::odometry::Pose;
 use crate::search::SearchError;
 
@@ -35,6 +47,7 @@ sized_impl!([] {
         m.queue.reset((pose.x_mm, pose.y_mm));
         let fc = cspace::fine_centre_mm(self.p.map, from.x as i32, from.y as i32);
         let _ = m.queue.push(fc, false);
+        m.chord.reset(fc);
         if !m.edge.start(self.p.fine, from) {
             m.phase = Phase::ReturnSearch;
             self.begin_return(pose);
@@ -52,12 +65,56 @@ sized_impl!([] {
         m.edge_tries += 1;
         m.route.clear();
         m.edge = EdgePass::new();
-        m.queue.reset(m.queue.last_end().unwrap_or((0, 0)));
+        let end = m.queue.last_end().unwrap_or((0, 0));
+        m.queue.reset(end);
+        m.chord.reset(end);
         m.fine_is_edge = false;
         m.phase = Phase::Cover;
     }
 
+    /// Tops the queue up with the edge pass's next moves, the contour's
+    /// cells gathered into chords ([`crate::nav::chord`]); what a chord
+    /// holds is queued before the step ends.
     pub(super) fn top_up_edge(&mut self) {
+        // Whatever drove meanwhile (a detour, a back-off), the chord
+        // starts where the queue ends.
+        if let Some(end) = self.m.queue.last_end() {
+            self.m.chord.reset(end);
+        }
+        self.edge_moves();
+        self.flush_chord();
+    }
+
+    /// Queues what the chord holds.
+    fn flush_chord(&mut self) {
+        let cover = self.m.chord.cover;
+        if let Some(w) = self.m.chord.flush() {
+            let _ = self.m.queue.push(w, cover);
+        }
+    }
+
+    /// The next point of a contour (`edge`) or of a transit between
+    /// contours into the chord; a waypoint out when the chord cannot take
+    /// it. A transit's chord may stray farther from its staircase of cells
+    /// ([`TRANSIT_CHORD_TOL_MM`]).
+    fn edge_point(&mut self, p: (i32, i32), edge: bool) {
+        if edge != self.m.chord.cover {
+            self.flush_chord();
+            self.m.chord.cover = edge;
+        }
+        let tol = if edge {
+            EDGE_CHORD_TOL_MM
+        } else {
+            TRANSIT_CHORD_TOL_MM
+        };
+        let (map, fine) = (&*self.p.map, &*self.p.fine);
+        let clear = |a, b| fine_segment_clear(map, fine, a, b);
+        if let Some(w) = self.m.chord.offer(p, tol, clear) {
+            let _ = self.m.queue.push(w, edge);
+        }
+    }
+
+    fn edge_moves(&mut self) {
         let budget = self.m.cfg.node_budget;
         while self.m.queue.len() < 8 {
             let search = &mut *self.p.search;
@@ -81,16 +138,18 @@ sized_impl!([] {
                 }
                 Ok(EdgeStep::Move { to, edge }) => {
                     let p = cspace::fine_centre_mm(self.p.map, to.x as i32, to.y as i32);
-                    let _ = self.m.queue.push(p, edge);
+                    self.edge_point(p, edge);
                 }
                 Ok(EdgeStep::Pending) => return,
                 Ok(EdgeStep::Done) => {
+                    self.flush_chord();
                     self.m.phase = Phase::ReturnSearch;
                     let pose = self.m.drive.odom.pose();
                     self.begin_return(&pose);
                     return;
                 }
                 Err(SearchError::OutOfWindow) => {
+                    self.flush_chord();
                     // The nearest contour is beyond a search window: go
                     // there by a route over the whole map, and walk on from it.
                     let goal = self.m.edge.far_goal();

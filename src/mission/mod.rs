@@ -307,6 +307,8 @@ pub struct Mission {
     edge_progress_pending: bool,
     /// The rooms and which are open ([`rooms`]).
     rooms: rooms::RoomTour,
+    /// The edge pass's contour gathered into chords.
+    chord: crate::nav::chord::Chord,
 }
 
 /// The executive at work on the caller's buffers `P` (the planning side).
@@ -384,6 +386,7 @@ impl Mission {
             restored: false,
             edge_progress_pending: false,
             rooms: rooms::RoomTour::new(),
+            chord: crate::nav::chord::Chord::new(),
         }
     }
 

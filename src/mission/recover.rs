@@ -111,11 +111,7 @@ sized_impl!([] {
                     let x = seg.from.0 as i64 + (seg.to.0 - seg.from.0) as i64 * k / steps;
                     let y = seg.from.1 as i64 + (seg.to.1 - seg.from.1) as i64 * k / steps;
                     let (cx, cy) = self.p.map.cell_of(x as i32, y as i32);
-                    let g = &mut *self.p.fine;
-                    if crate::nav::edge::is_boundary(g, cx, cy) && g.get(Layer::Covered, cx, cy) {
-                        let _ = g.set(Layer::Covered, cx, cy, false);
-                        any = true;
-                    }
+                    any |= reopen_contour_near(self.p.fine, cx, cy);
                 }
                 if any {
                     let at = m.edge.position();
@@ -200,3 +196,19 @@ sized_impl!([] {
         self.detour(here, t, cover);
     }
 });
+
+/// Marks the visited contour cells within one cell of (cx, cy) to do
+/// again: the edge pass's chords stray up to 40 mm from the contour cells
+/// they stand for ([`crate::nav::chord`]), so a sub-path given up reopens
+/// its neighbourhood, not only the cells under its line. True when any.
+fn reopen_contour_near<const GW: usize>(g: &mut crate::grid::Grid<GW>, cx: i32, cy: i32) -> bool {
+    let mut any = false;
+    for (dx, dy) in (-1..=1).flat_map(|dy| (-1..=1).map(move |dx| (dx, dy))) {
+        let (x, y) = (cx + dx, cy + dy);
+        if crate::nav::edge::is_boundary(g, x, y) && g.get(Layer::Covered, x, y) {
+            let _ = g.set(Layer::Covered, x, y, false);
+            any = true;
+        }
+    }
+    any
+}

@@ -177,3 +177,25 @@ pub fn nearest_free_fine<const EV: usize, const GW: usize>(
 ) -> Option<Cell> {
     nearest_free_fine_within(map, fine, p, 3)
 }
+
+/// True when every fine cell the straight line from `a` to `b` (world mm)
+/// passes over, checked every quarter cell, is free on the fine
+/// configuration space.
+pub fn fine_segment_clear<const EV: usize, const GW: usize>(
+    map: &EvidenceMap<EV>,
+    fine: &Grid<GW>,
+    a: (i32, i32),
+    b: (i32, i32),
+) -> bool {
+    let res = map.res_mm().max(1) as i64;
+    let steps = (dist_mm(a, b) * 4 / res).max(1);
+    // `checked_div`: no overflow branch for the panic check to find.
+    let at = |from: i32, to: i32, k: i64| {
+        let d = ((to - from) as i64 * k).checked_div(steps).unwrap_or(0);
+        (from as i64 + d) as i32
+    };
+    (0..=steps).all(|k| {
+        let (cx, cy) = map.cell_of(at(a.0, b.0, k), at(a.1, b.1, k));
+        fine.is_free(cx, cy)
+    })
+}

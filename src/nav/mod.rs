@@ -2,6 +2,7 @@
 //! follower, the speed guard, DWA, the edge pass and the geometry they
 //! share. Uses `math`, `grid`, `search` and `robot`.
 
+pub mod chord;
 pub mod cspace;
 pub mod dwa;
 pub mod edge;
