@@ -14,8 +14,13 @@ fn chords(
 ) -> Vec<(i32, i32)> {
     let mut c = Chord::new();
     c.reset(start);
-    let mut out: Vec<_> = pts.iter().filter_map(|&p| c.offer(p, tol, clear)).collect();
-    out.extend(c.flush());
+    let mut out: Vec<_> = pts
+        .iter()
+        .filter_map(|&p| c.offer(p, tol, clear, clear))
+        .collect();
+    while let Some(w) = c.flush(clear) {
+        out.push(w);
+    }
     out
 }
 
@@ -91,5 +96,23 @@ fn a_full_chord_is_cut() {
 fn an_empty_chord_flushes_nothing() {
     let mut c = Chord::new();
     c.reset((10, 10));
-    assert_eq!(c.flush(), None);
+    assert_eq!(c.flush(|_, _| true), None);
+}
+
+#[test]
+fn a_chord_the_body_cannot_sweep_is_cut_to_single_steps() {
+    // The cells fit the cheap check, but the body's sweep refuses every
+    // line longer than one step: the pass's own steps come out.
+    let pts: Vec<_> = (1..=6).map(|k| (k * 50, 0)).collect();
+    let mut c = Chord::new();
+    c.reset((0, 0));
+    let short = |a: (i32, i32), b: (i32, i32)| (a.0 - b.0).abs() <= 50;
+    let mut out: Vec<_> = pts
+        .iter()
+        .filter_map(|&p| c.offer(p, 40, |_, _| true, short))
+        .collect();
+    while let Some(w) = c.flush(short) {
+        out.push(w);
+    }
+    assert_eq!(out, pts);
 }

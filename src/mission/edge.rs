@@ -4,7 +4,7 @@
 use super::{Fault, MapMode, Phase, HOME_TRIES};
 use crate::nav::cspace;
 use crate::nav::edge::{EdgePass, EdgeStep};
-use crate::nav::geometry::{fine_segment_clear, nearest_free_fine_within};
+use crate::nav::geometry::{fine_segment_clear, nearest_free_fine_within, segment_clear};
 
 /// How far the edge pass's chords may stray from the contour, mm: a
 /// staircase of 5 cm cells along a slanted wall stays within 35 mm of its
@@ -88,7 +88,9 @@ sized_impl!([] {
     /// Queues what the chord holds.
     fn flush_chord(&mut self) {
         let cover = self.m.chord.cover;
-        if let Some(w) = self.m.chord.flush() {
+        let r = (self.m.cfg.radius_mm + self.m.cfg.margin_mm / 2) as i64;
+        let map = &*self.p.map;
+        while let Some(w) = self.m.chord.flush(|a, b| segment_clear(map, a, b, r)) {
             let _ = self.m.queue.push(w, cover);
         }
     }
@@ -109,7 +111,10 @@ sized_impl!([] {
         };
         let (map, fine) = (&*self.p.map, &*self.p.fine);
         let clear = |a, b| fine_segment_clear(map, fine, a, b);
-        if let Some(w) = self.m.chord.offer(p, tol, clear) {
+        // The body's sweep, as the lanes are checked ([`Self::enqueue`]).
+        let r = (self.m.cfg.radius_mm + self.m.cfg.margin_mm / 2) as i64;
+        let verify = |a, b| segment_clear(map, a, b, r);
+        if let Some(w) = self.m.chord.offer(p, tol, clear, verify) {
             let _ = self.m.queue.push(w, edge);
         }
     }

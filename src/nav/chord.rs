@@ -47,12 +47,15 @@ impl Chord {
 
     /// Offers the next contour point (world mm). Returns the waypoint to
     /// drive to when the chord cannot take the point; `clear(a, b)` says
-    /// whether the straight line a–b is free.
+    /// whether the straight line a–b is free (checked on every offer,
+    /// cheap), `verify(a, b)` whether the body may sweep it (checked once,
+    /// when a chord is cut; [`Chord::cut`]).
     pub fn offer(
         &mut self,
         p: (i32, i32),
         tol_mm: i64,
         clear: impl Fn((i32, i32), (i32, i32)) -> bool,
+        verify: impl Fn((i32, i32), (i32, i32)) -> bool,
     ) -> Option<(i32, i32)> {
         let fits = !self.held.is_full()
             && self
@@ -64,22 +67,44 @@ impl Chord {
             let _ = self.held.push(p);
             return None;
         }
-        let Some(&q) = self.held.last() else {
+        let Some(q) = self.cut(verify) else {
             // Not even one step fits: drive to it as it is.
             self.anchor = p;
             return Some(p);
         };
-        self.anchor = q;
-        self.held.clear();
         let _ = self.held.push(p);
         Some(q)
     }
 
-    /// The last point held, as a waypoint (the chord ends there).
-    pub fn flush(&mut self) -> Option<(i32, i32)> {
-        let q = self.held.last().copied()?;
-        self.reset(q);
-        Some(q)
+    /// Cuts the chord: the last point held when `verify(anchor, last)`
+    /// says the body may sweep the line, else only the first (one contour
+    /// step, as the pass walked it), the rest staying held. `None` when
+    /// nothing is held.
+    pub fn cut(&mut self, verify: impl Fn((i32, i32), (i32, i32)) -> bool) -> Option<(i32, i32)> {
+        let last = *self.held.last()?;
+        let first = *self.held.first()?;
+        if verify(self.anchor, last) {
+            self.reset(last);
+            return Some(last);
+        }
+        // Drop the first point (no `collect`: it has a panic path).
+        let n = self.held.len();
+        for i in 1..n {
+            if let Some(v) = self.held.get(i).copied() {
+                if let Some(d) = self.held.get_mut(i - 1) {
+                    *d = v;
+                }
+            }
+        }
+        self.held.truncate(n.saturating_sub(1));
+        self.anchor = first;
+        Some(first)
+    }
+
+    /// The next waypoint of what is held (call until `None` to end the
+    /// chord); see [`Chord::cut`].
+    pub fn flush(&mut self, verify: impl Fn((i32, i32), (i32, i32)) -> bool) -> Option<(i32, i32)> {
+        self.cut(verify)
     }
 }
 
