@@ -18,7 +18,7 @@ fn chords(
         .iter()
         .filter_map(|&p| c.offer(p, tol, clear, clear))
         .collect();
-    while let Some(w) = c.flush(clear) {
+    while let Some(w) = c.cut(clear) {
         out.push(w);
     }
     out
@@ -96,7 +96,7 @@ fn a_full_chord_is_cut() {
 fn an_empty_chord_flushes_nothing() {
     let mut c = Chord::new();
     c.reset((10, 10));
-    assert_eq!(c.flush(|_, _| true), None);
+    assert_eq!(c.cut(|_, _| true), None);
 }
 
 #[test]
@@ -111,7 +111,7 @@ fn a_chord_the_body_cannot_sweep_is_cut_to_single_steps() {
         .iter()
         .filter_map(|&p| c.offer(p, 40, |_, _| true, short))
         .collect();
-    while let Some(w) = c.flush(short) {
+    while let Some(w) = c.cut(short) {
         out.push(w);
     }
     assert_eq!(out, pts);

@@ -82,6 +82,15 @@ pub struct Rooms {
     pub depth: u8,
 }
 
+/// The room of cell (x, y) in `labels` (as [`segment`] wrote them),
+/// [`NONE`] off the grid or the labels.
+pub fn label_at<const NW: usize>(grid: &Grid<NW>, labels: &[u8], x: i32, y: i32) -> u8 {
+    grid.index(x, y)
+        .and_then(|i| labels.get(i))
+        .copied()
+        .unwrap_or(NONE)
+}
+
 /// Splits the free cells of `grid` into rooms: `labels[i]` becomes the
 /// room id of cell `i` ([`NONE`] for blocked cells). `queue` holds a
 /// wavefront (a few grid perimeters are plenty).

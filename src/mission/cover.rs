@@ -13,7 +13,7 @@ use crate::search::{Algo, Progress, SearchError};
 use crate::verify::metrics::SegmentKind;
 
 /// Every planning cell (clipped to the grid when derived).
-const ALL_CELLS: CellBox = (0, 0, i32::MAX / 4, i32::MAX / 4);
+pub(super) const ALL_CELLS: CellBox = (0, 0, i32::MAX / 4, i32::MAX / 4);
 
 impl Mission {
     /// The map's states changed in `fine` (evidence cells of `res_mm`):
@@ -72,7 +72,7 @@ sized_impl!([] {
             self.fail(Fault::Capacity);
             return;
         }
-        self.fence();
+        self.fence(dirty);
         let (x, y) = self.p.planner.position().xy();
         let _ = self.p.coarse.set_obstacle(x, y, false);
         self.m.note_coarse_set(x, y);

@@ -90,7 +90,7 @@ sized_impl!([] {
         let cover = self.m.chord.cover;
         let r = (self.m.cfg.radius_mm + self.m.cfg.margin_mm / 2) as i64;
         let map = &*self.p.map;
-        while let Some(w) = self.m.chord.flush(|a, b| segment_clear(map, a, b, r)) {
+        while let Some(w) = self.m.chord.cut(|a, b| segment_clear(map, a, b, r)) {
             let _ = self.m.queue.push(w, cover);
         }
     }

@@ -210,7 +210,6 @@ sized_impl!([MissionParts for Parts<'_, N, NW, OPEN, LCAP, PCAP, FW, EV, MW>] {
     }
 
     fn room_of(&self, x: i32, y: i32) -> u8 {
-        let i = self.coarse.index(x, y);
-        i.and_then(|i| self.rooms.get(i)).copied().unwrap_or(0)
+        crate::grid::rooms::label_at(self.coarse, self.rooms, x, y)
     }
 });

@@ -18,19 +18,20 @@
 //! first. In unknown mode the map grows as the robot goes, so there are
 //! no rooms and the planner runs over the whole home as before.
 
-use super::Mission;
-use crate::grid::rooms::{self, RoomParams, NONE};
-use crate::grid::{Cell, Grid};
+use super::cover::ALL_CELLS;
+use crate::grid::rooms::{self, label_at, RoomParams, NONE};
+use crate::grid::Cell;
+use crate::math::bits::Bits;
+use crate::robot::lidar_map::CellBox;
 
-/// Which rooms there are and which are open.
-#[derive(Clone, Copy, Debug, Default)]
+/// Which rooms there are and which are open. How many have been entered
+/// is counted once, in [`super::Counters::rooms_entered`].
+#[derive(Clone, Default)]
 pub(super) struct RoomTour {
     /// Rooms (0 or 1: no tour, the whole home at once).
     count: u8,
-    /// Rooms opened so far.
-    opened: u8,
     /// Open rooms, a bit each (ids 1..=126).
-    open: [u32; 4],
+    open: Bits<4>,
 }
 
 impl RoomTour {
@@ -38,8 +39,7 @@ impl RoomTour {
     pub(super) const fn new() -> Self {
         Self {
             count: 0,
-            opened: 0,
-            open: [0; 4],
+            open: Bits::new(),
         }
     }
 
@@ -49,41 +49,24 @@ impl RoomTour {
     }
 
     fn is_open(&self, id: u8) -> bool {
-        let (w, b) = (id as usize / 32, id as u32 % 32);
-        self.open.get(w).is_some_and(|v| v & (1 << b) != 0)
+        self.open.get(id as usize)
     }
 
-    fn open(&mut self, id: u8) {
-        let (w, b) = (id as usize / 32, id as u32 % 32);
-        if let Some(v) = self.open.get_mut(w) {
-            if *v & (1 << b) == 0 {
-                self.opened += 1;
-            }
-            *v |= 1 << b;
-        }
+    /// Opens room `id`; true when it was not open before.
+    fn open(&mut self, id: u8) -> bool {
+        let was = self.is_open(id);
+        self.open.put(id as usize, true);
+        !was
     }
 
     /// A planning cell's room is fenced (not yet open; nothing is
     /// fenced before the first room opens).
     fn fenced(&self, id: u8) -> bool {
-        self.on() && self.opened > 0 && id != NONE && !self.is_open(id)
+        self.on()
+            && id != NONE
+            && !self.is_open(id)
+            && self.open.count_prefix(Bits::<4>::CAPACITY) > 0
     }
-}
-
-impl Mission {
-    /// Rooms found when the mission began (0 in unknown mode or when the
-    /// home is one room), and how many the robot has entered so far.
-    pub fn rooms(&self) -> (u8, u8) {
-        (self.rooms.count, self.rooms.opened)
-    }
-}
-
-/// The room of planning cell (x, y), [`NONE`] off the labels.
-fn room_at<const NW: usize>(g: &Grid<NW>, labels: &[u8], x: i32, y: i32) -> u8 {
-    g.index(x, y)
-        .and_then(|i| labels.get(i))
-        .copied()
-        .unwrap_or(NONE)
 }
 
 sized_impl!([] {
@@ -105,29 +88,35 @@ sized_impl!([] {
     /// Opens the room of the planner's start cell.
     pub(super) fn enter_first_room(&mut self, start: Cell) {
         let (x, y) = start.xy();
-        let id = room_at(self.p.coarse, self.p.rooms, x, y);
+        let id = label_at(self.p.coarse, self.p.rooms, x, y);
         if id == NONE {
             // The dock's cell is in no room: no tour.
             self.m.rooms.count = 0;
         }
-        self.m.rooms.open(id);
-        if self.m.rooms.on() {
-            self.m.counters.rooms_entered = 1;
-        }
-        self.fence();
+        self.open_room(id);
+        self.fence(ALL_CELLS);
     }
 
-    /// Blocks the planning cells of rooms not yet open.
-    pub(super) fn fence(&mut self) {
+    /// Opens room `id`, counting it when a tour is under way.
+    fn open_room(&mut self, id: u8) {
+        if self.m.rooms.open(id) && self.m.rooms.on() {
+            self.m.counters.rooms_entered += 1;
+        }
+    }
+
+    /// Blocks the planning cells in `cells` (inclusive, clipped to the
+    /// grid) of rooms not yet open.
+    pub(super) fn fence(&mut self, cells: CellBox) {
         if !self.m.rooms.on() {
             return;
         }
         let g = &mut *self.p.coarse;
-        for i in 0..g.cells() {
-            let id = self.p.rooms.get(i).copied().unwrap_or(NONE);
-            if self.m.rooms.fenced(id) {
-                let (x, y) = g.cell_at(i).xy();
-                let _ = g.set_obstacle(x, y, true);
+        let (w, h) = (g.width() as i32, g.height() as i32);
+        for y in cells.1.max(0)..=cells.3.min(h - 1) {
+            for x in cells.0.max(0)..=cells.2.min(w - 1) {
+                if self.m.rooms.fenced(label_at(g, self.p.rooms, x, y)) {
+                    let _ = g.set_obstacle(x, y, true);
+                }
             }
         }
     }
@@ -142,7 +131,7 @@ sized_impl!([] {
         let Some(id) = self.pick_next_room() else {
             return false;
         };
-        self.m.rooms.open(id);
+        self.open_room(id);
         // Derive the room's cells again from the map, then fence the rest.
         let g = &*self.p.coarse;
         for i in 0..g.cells() {
@@ -159,7 +148,6 @@ sized_impl!([] {
         }
         self.m.planner_done = false;
         self.m.abandon_rounds = 0;
-        self.m.counters.rooms_entered = self.m.rooms.opened as u32;
         true
     }
 
@@ -178,7 +166,7 @@ sized_impl!([] {
             }
             let (x, y) = g.cell_at(i).xy();
             let touches = [(1, 0), (-1, 0), (0, 1), (0, -1)].iter().any(|&(dx, dy)| {
-                let n = room_at(g, labels, x + dx, y + dy);
+                let n = label_at(g, labels, x + dx, y + dy);
                 n != NONE && self.m.rooms.is_open(n)
             });
             let d = ((x - px) as i64).pow(2) + ((y - py) as i64).pow(2);

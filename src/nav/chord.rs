@@ -79,7 +79,7 @@ impl Chord {
     /// Cuts the chord: the last point held when `verify(anchor, last)`
     /// says the body may sweep the line, else only the first (one contour
     /// step, as the pass walked it), the rest staying held. `None` when
-    /// nothing is held.
+    /// nothing is held. Call until `None` to end the chord.
     pub fn cut(&mut self, verify: impl Fn((i32, i32), (i32, i32)) -> bool) -> Option<(i32, i32)> {
         let last = *self.held.last()?;
         let first = *self.held.first()?;
@@ -99,12 +99,6 @@ impl Chord {
         self.held.truncate(n.saturating_sub(1));
         self.anchor = first;
         Some(first)
-    }
-
-    /// The next waypoint of what is held (call until `None` to end the
-    /// chord); see [`Chord::cut`].
-    pub fn flush(&mut self, verify: impl Fn((i32, i32), (i32, i32)) -> bool) -> Option<(i32, i32)> {
-        self.cut(verify)
     }
 }
 

@@ -95,13 +95,20 @@ pub fn segment_clear<const EV: usize>(
 ) -> bool {
     let res = map.res_mm().max(1) as i64;
     let hmm = map.height() as i64 * res;
-    let len = dist_mm(a, b);
-    let steps = (len * 4 / res).max(1);
-    (0..=steps).all(|k| {
-        let x = a.0 as i64 + (b.0 - a.0) as i64 * k / steps;
-        let y = a.1 as i64 + (b.1 - a.1) as i64 * k / steps;
+    along(a, b, res, |x, y| {
         !cspace::disc_blocked(map, x, hmm - y, radius_mm, false)
     })
+}
+
+/// True when `ok` holds at every point of the segment `a`-`b` (mm),
+/// sampled four times per evidence cell of `res_mm`, both ends included.
+fn along(a: (i32, i32), b: (i32, i32), res_mm: i64, mut ok: impl FnMut(i64, i64) -> bool) -> bool {
+    let steps = (dist_mm(a, b) * 4 / res_mm.max(1)).max(1);
+    // `checked_div`: no overflow branch for the panic check to find.
+    let at = |from: i32, to: i32, k: i64| {
+        from as i64 + ((to - from) as i64 * k).checked_div(steps).unwrap_or(0)
+    };
+    (0..=steps).all(|k| ok(at(a.0, b.0, k), at(a.1, b.1, k)))
 }
 
 /// The free fine cell nearest to world point `p` within `reach` cells.
@@ -187,15 +194,8 @@ pub fn fine_segment_clear<const EV: usize, const GW: usize>(
     a: (i32, i32),
     b: (i32, i32),
 ) -> bool {
-    let res = map.res_mm().max(1) as i64;
-    let steps = (dist_mm(a, b) * 4 / res).max(1);
-    // `checked_div`: no overflow branch for the panic check to find.
-    let at = |from: i32, to: i32, k: i64| {
-        let d = ((to - from) as i64 * k).checked_div(steps).unwrap_or(0);
-        (from as i64 + d) as i32
-    };
-    (0..=steps).all(|k| {
-        let (cx, cy) = map.cell_of(at(a.0, b.0, k), at(a.1, b.1, k));
+    along(a, b, map.res_mm() as i64, |x, y| {
+        let (cx, cy) = map.cell_of(x as i32, y as i32);
         fine.is_free(cx, cy)
     })
 }
