@@ -134,30 +134,21 @@ fn planning_cells_anchor_where_the_robot_fits() {
     assert!(segment_clear(&map, c, d, 170));
 }
 
-#[test]
-fn edge_pass_visits_every_reachable_boundary_cell() {
-    let map = room();
-    let mut fine = Box::new(G::new());
-    build_fine(&map, &mut fine, 175, false).unwrap();
-    let boundary: Vec<(i32, i32)> = (0..100)
-        .flat_map(|y| (0..120).map(move |x| (x, y)))
-        .filter(|&(x, y)| is_boundary(&fine, x, y))
-        .collect();
-    assert!(boundary.len() > 300);
+/// Runs an edge pass to its end, checking every move (between
+/// neighbours, never into an obstacle, no corner cut); the cells moved
+/// to, and how many moves were along contours.
+fn run_pass(fine: &mut G, pass: &mut EdgePass, start: Cell) -> (Vec<Cell>, usize) {
     let mut search = Box::new(S::new());
     let mut state = Box::new(St::new());
     let mut path = vec![Cell::default(); 120 * 100];
-    let mut pass = EdgePass::new();
-    let start = Cell::new(30, 30);
-    assert!(pass.start(&mut fine, start));
-    let (mut last, mut moves, mut edge_moves) = (start, 0usize, 0usize);
+    let (mut last, mut moves, mut edge_moves) = (start, Vec::new(), 0usize);
     for _ in 0..200_000 {
         match pass
-            .step(&mut fine, &mut search, &mut state, &mut path, 500)
+            .step(fine, &mut search, &mut state, &mut path, 500)
             .unwrap()
         {
             EdgeStep::Move { to, edge } => {
-                moves += 1;
+                moves.push(to);
                 let (dx, dy) = (to.x as i32 - last.x as i32, to.y as i32 - last.y as i32);
                 assert!(dx.abs() <= 1 && dy.abs() <= 1, "a move between neighbours");
                 assert!(
@@ -179,6 +170,27 @@ fn edge_pass_visits_every_reachable_boundary_cell() {
         }
     }
     assert!(pass.is_done());
+    (moves, edge_moves)
+}
+
+fn boundary_of(fine: &G) -> Vec<(i32, i32)> {
+    (0..100)
+        .flat_map(|y| (0..120).map(move |x| (x, y)))
+        .filter(|&(x, y)| is_boundary(fine, x, y))
+        .collect()
+}
+
+#[test]
+fn edge_pass_visits_every_reachable_boundary_cell() {
+    let map = room();
+    let mut fine = Box::new(G::new());
+    build_fine(&map, &mut fine, 175, false).unwrap();
+    let boundary = boundary_of(&fine);
+    assert!(boundary.len() > 300);
+    let mut pass = EdgePass::new();
+    let start = Cell::new(30, 30);
+    assert!(pass.start(&mut fine, start));
+    let (moves, edge_moves) = run_pass(&mut fine, &mut pass, start);
     for &(x, y) in &boundary {
         assert!(
             fine.get(Layer::Covered, x, y),
@@ -187,8 +199,52 @@ fn edge_pass_visits_every_reachable_boundary_cell() {
     }
     // Mostly along contours: transits are the exception.
     assert!(
-        edge_moves * 10 > moves * 8,
-        "{edge_moves} of {moves} moves along contours"
+        edge_moves * 10 > moves.len() * 8,
+        "{edge_moves} of {} moves along contours",
+        moves.len()
     );
     assert_eq!(pass.stats.unreachable, 0);
+}
+
+#[test]
+fn edge_pass_skips_the_stretches_the_lanes_swept() {
+    let map = room();
+    let mut fine = Box::new(G::new());
+    build_fine(&map, &mut fine, 175, false).unwrap();
+    let boundary = boundary_of(&fine);
+    // The lanes' track ran along the whole bottom wall's boundary row.
+    let row = boundary.iter().map(|&(_, y)| y).max().unwrap();
+    let swept: Vec<(i32, i32)> = boundary
+        .iter()
+        .copied()
+        .filter(|&(_, y)| y == row)
+        .collect();
+    assert!(swept.len() > 60, "{} cells along the wall", swept.len());
+    for &(x, y) in &swept {
+        fine.set(Layer::Covered, x, y, true).unwrap();
+    }
+    // Rebuilding the configuration space keeps the marks.
+    build_fine(&map, &mut fine, 175, false).unwrap();
+    assert!(swept.iter().all(|&(x, y)| fine.get(Layer::Covered, x, y)));
+    let mut full = fine.clone();
+    let start = Cell::new(30, 30);
+    let mut pass = EdgePass::new();
+    assert!(pass.start_keeping(&mut fine, start));
+    let (moves, edge_moves) = run_pass(&mut fine, &mut pass, start);
+    assert!(boundary
+        .iter()
+        .all(|&(x, y)| fine.get(Layer::Covered, x, y)));
+    // The swept row is crossed at most where a transit passes.
+    let on_row = moves.iter().filter(|c| c.y as i32 == row).count();
+    assert!(on_row * 4 < swept.len(), "{on_row} moves on the swept row");
+    // A full pass walks it along the wall (the moves saved in time depend
+    // on where the pass meets the stretch: the way round to its other end
+    // may be a transit instead).
+    let mut again = EdgePass::new();
+    assert!(again.start(&mut full, start));
+    let (_, all_edge) = run_pass(&mut full, &mut again, start);
+    assert!(
+        edge_moves + swept.len() * 3 / 4 < all_edge,
+        "{edge_moves} against {all_edge}"
+    );
 }

@@ -43,7 +43,7 @@ fn after_a_power_loss_in_the_lanes_only_the_rest_is_cleaned() {
 
 #[test]
 fn a_power_loss_in_the_edge_pass_restores_its_progress_too() {
-    let pl = run_power_loss(&studio(), 1200.0, 60.0, |_, _, _| {}).unwrap();
+    let pl = run_power_loss(&studio(), 950.0, 60.0, |_, _, _| {}).unwrap();
     let (first, second) = (&pl.first.0, &pl.second.0);
     let edge = |r: &host_sim::run::mission::MissionReport| {
         r.state_time_s.get("Edge").copied().unwrap_or(0.0)

@@ -145,6 +145,18 @@ impl<const NW: usize> Grid<NW> {
         }
     }
 
+    /// [`Grid::reset`], but the covered layer is kept when the size is
+    /// unchanged: a grid rebuilt from a changed map keeps what the robot
+    /// has done on it.
+    pub fn reset_keeping_covered(&mut self, width: u32, height: u32) -> Result<(), GridError> {
+        if (width, height) != (self.width(), self.height()) {
+            return self.reset(width, height);
+        }
+        self.obstacle.clear_all();
+        self.known.clear_all();
+        Ok(())
+    }
+
     /// Resizes to `width × height`, all cells free, uncovered and unknown.
     pub fn reset(&mut self, width: u32, height: u32) -> Result<(), GridError> {
         if width == 0 || height == 0 {

@@ -38,6 +38,7 @@ sized_impl!([] {
     /// The cover phase's step: map upkeep, avoidance, the fine path being
     /// fed, the planner's next waypoints; the edge pass when it is done.
     pub(super) fn cover_step(&mut self, now_us: u64, pose: &Pose) {
+        self.trace_lanes(pose);
         self.refresh_coarse();
         self.watch_corridor(now_us, pose);
         if !self.feed_path() || !self.feed_route() {
@@ -79,6 +80,7 @@ sized_impl!([] {
     }
 
     pub(super) fn start_cover(&mut self, now_us: u64, pose: &Pose) {
+        self.begin_trace();
         self.m.map_dirty = true;
         self.m.coarse_dirty = ALL_CELLS;
         self.refresh_coarse();

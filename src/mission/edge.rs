@@ -1,10 +1,21 @@
 //! The edge pass ([`crate::nav::edge`]) along every wall and piece of
 //! furniture, on the fine configuration space, after the lanes.
+//!
+//! **Only where the lanes did not sweep (issue 12).** While the lanes are
+//! driven, the fine cells the robot's centre passes are marked covered on
+//! the fine grid, which keeps that layer when it is rebuilt. The edge pass
+//! starts from those marks ([`EdgePass::start_keeping`]): a boundary cell
+//! the lanes' track went through is one the edge pass would sweep again,
+//! since a lane's anchor next to a wall is pushed to the same boundary
+//! (the nearest position where the body fits, [`cspace::anchor_mm`]).
 
 use super::{Fault, MapMode, Phase, HOME_TRIES};
+use crate::grid::Layer;
 use crate::nav::cspace;
 use crate::nav::edge::{EdgePass, EdgeStep};
-use crate::nav::geometry::{fine_segment_clear, nearest_free_fine_within, segment_clear};
+use crate::nav::geometry::{
+    along, dist_mm, fine_segment_clear, nearest_free_fine_within, segment_clear,
+};
 
 /// How far the edge pass's chords may stray from the contour, mm: a
 /// staircase of 5 cm cells along a slanted wall stays within 35 mm of its
@@ -17,10 +28,45 @@ const EDGE_CHORD_TOL_MM: i64 = 40;
 /// capacity the office's edge pass ended in a loop of routes and re-plans
 /// until the battery ran flat (not yet understood; kept bounded).
 const TRANSIT_CHORD_TOL_MM: i64 = 75;
+
+/// A pose that moved farther than this since the last mark jumped
+/// (relocalised, or back from the dock): its track is not drawn, mm.
+const TRACE_JUMP_MM: i64 = 250;
 use crate::robot::odometry::Pose;
 use crate::search::SearchError;
 
 sized_impl!([] {
+    /// Sizes the fine grid to the map when it is not yet (its covered
+    /// layer then starts empty), so the lanes' track can be marked from
+    /// the first move.
+    pub(super) fn begin_trace(&mut self) {
+        let (w, h) = (self.p.map.width(), self.p.map.height());
+        self.m.trace_at = None;
+        if (self.p.fine.width(), self.p.fine.height()) != (w, h) && self.p.fine.reset(w, h).is_ok() {
+            self.m.fine_stale = true;
+            self.m.fine_is_edge = false;
+        }
+    }
+
+    /// Marks the lanes' track since the last mark on the fine grid's
+    /// covered layer (see the module's doc).
+    pub(super) fn trace_lanes(&mut self, pose: &Pose) {
+        let to = (pose.x_mm, pose.y_mm);
+        let from = match self.m.trace_at.replace(to) {
+            Some(p) if dist_mm(p, to) <= TRACE_JUMP_MM => p,
+            _ => to,
+        };
+        let (map, fine) = (&*self.p.map, &mut *self.p.fine);
+        if (fine.width(), fine.height()) != (map.width(), map.height()) {
+            return;
+        }
+        along(from, to, map.res_mm() as i64, |x, y| {
+            let (cx, cy) = map.cell_of(x as i32, y as i32);
+            let _ = fine.set(Layer::Covered, cx, cy, true);
+            true
+        });
+    }
+
     pub(super) fn start_edge(&mut self, pose: &Pose) {
         let m = &mut *self.m;
         let r = (m.cfg.radius_mm + m.cfg.margin_mm) as u32;
@@ -48,7 +94,8 @@ sized_impl!([] {
         let fc = cspace::fine_centre_mm(self.p.map, from.x as i32, from.y as i32);
         let _ = m.queue.push(fc, false);
         m.chord.reset(fc);
-        if !m.edge.start(self.p.fine, from) {
+        m.trace_at = None;
+        if !m.edge.start_keeping(self.p.fine, from) {
             m.phase = Phase::ReturnSearch;
             self.begin_return(pose);
             return;

@@ -309,6 +309,8 @@ pub struct Mission {
     rooms: rooms::RoomTour,
     /// The edge pass's contour gathered into chords.
     chord: crate::nav::chord::Chord,
+    /// Where the lanes' trace was last marked ([`edge`]), world mm.
+    trace_at: Option<(i32, i32)>,
 }
 
 /// The executive at work on the caller's buffers `P` (the planning side).
@@ -387,6 +389,7 @@ impl Mission {
             edge_progress_pending: false,
             rooms: rooms::RoomTour::new(),
             chord: crate::nav::chord::Chord::new(),
+            trace_at: None,
         }
     }
 

@@ -256,7 +256,7 @@ pub fn build_fine<const EV: usize, const GW: usize>(
     unknown_blocks: bool,
 ) -> Result<(), GridError> {
     let (w, h) = (map.width() as i32, map.height() as i32);
-    fine.reset(w as u32, h as u32)?;
+    fine.reset_keeping_covered(w as u32, h as u32)?;
     let res = map.res_mm().max(1) as i64;
     let Some(half) = stamp_half_widths(res, radius_mm as i64) else {
         return Err(GridError::TooLarge {

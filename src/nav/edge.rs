@@ -184,12 +184,19 @@ impl EdgePass {
     /// Starts a pass from `from` (a free cell) on a freshly built fine
     /// grid.
     pub fn start<const GW: usize>(&mut self, fine: &mut Grid<GW>, from: Cell) -> bool {
+        fine.clear_layer(Layer::Covered);
+        self.start_keeping(fine, from)
+    }
+
+    /// [`EdgePass::start`], but the boundary cells already marked covered
+    /// count as visited: the stretches the lanes swept (the mission marks
+    /// where the robot's centre went), or a pass begun before.
+    pub fn start_keeping<const GW: usize>(&mut self, fine: &mut Grid<GW>, from: Cell) -> bool {
         let (x, y) = from.xy();
         if fine.is_blocked(x, y) {
             return false;
         }
         fine.clear_layer(Layer::Known);
-        fine.clear_layer(Layer::Covered);
         let _ = fine.set(Layer::Known, x, y, true);
         *self = Self::new();
         self.last = from;

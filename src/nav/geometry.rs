@@ -101,8 +101,14 @@ pub fn segment_clear<const EV: usize>(
 }
 
 /// True when `ok` holds at every point of the segment `a`-`b` (mm),
-/// sampled four times per evidence cell of `res_mm`, both ends included.
-fn along(a: (i32, i32), b: (i32, i32), res_mm: i64, mut ok: impl FnMut(i64, i64) -> bool) -> bool {
+/// sampled four times per evidence cell of `res_mm`, both ends included
+/// (it stops at the first point where `ok` fails).
+pub fn along(
+    a: (i32, i32),
+    b: (i32, i32),
+    res_mm: i64,
+    mut ok: impl FnMut(i64, i64) -> bool,
+) -> bool {
     let steps = (dist_mm(a, b) * 4 / res_mm.max(1)).max(1);
     // `checked_div`: no overflow branch for the panic check to find.
     let at = |from: i32, to: i32, k: i64| {
