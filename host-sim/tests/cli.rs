@@ -238,6 +238,32 @@ fn mission_reports_json_and_rejects_bad_input() {
             "--no-go",
             "2.5,2.0,3.5,2.5",
         ],
+        // Things the lidar cannot see: malformed, off the map, too small,
+        // over the dock.
+        vec!["mission", "--map", map.to_str().unwrap(), "--sofa", "1,2,3"],
+        vec![
+            "mission",
+            "--map",
+            map.to_str().unwrap(),
+            "--cable",
+            "1,1,90,1",
+        ],
+        vec![
+            "mission",
+            "--map",
+            map.to_str().unwrap(),
+            "--crossbar",
+            "1,1,1.01,1",
+        ],
+        vec![
+            "mission",
+            "--map",
+            map.to_str().unwrap(),
+            "--start",
+            "3.0,2.25",
+            "--sofa",
+            "2.5,2.0,3.5,2.5",
+        ],
         // More zones than the map holds.
         ["mission", "--map", map.to_str().unwrap()]
             .into_iter()

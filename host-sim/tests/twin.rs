@@ -290,3 +290,134 @@ fn coverage_plan_drives_without_collision() {
         );
     }
 }
+
+/// A world of `room(40, 30)` (10 cm cells) with `objects` placed.
+fn furnished(objects: &[host_sim::sim::objects::LowObject]) -> World {
+    let mut world = World::new(room(40, 30), 0.1);
+    host_sim::sim::objects::place(&mut world, objects).unwrap();
+    world
+}
+
+/// A sofa: the lidar's beam passes under it to the wall behind, the body
+/// stops at its front and the contact closes the bumper and counts as
+/// unseen; the known mode's prior leaves it out (checked on cell centres
+/// inside the sofa).
+#[test]
+fn a_sofa_is_under_the_scan_plane_and_in_the_bodys_way() {
+    use host_sim::sim::objects::{LowKind, LowObject};
+    use robovac::robot::hal::BumperSwitches;
+    let sofa = LowObject {
+        kind: LowKind::Sofa,
+        a: (2.5, 1.0),
+        b: (3.3, 2.0),
+    };
+    let world = furnished(&[sofa]);
+    // East from (1.5, 1.5): the sofa's front at 2.5 m, the wall's face at 3.9.
+    let d = world.ray(1.5, 1.5, 0.0, 10.0).unwrap();
+    assert!((d - 2.4).abs() < 1e-9, "the beam stopped at {d:.3} m");
+    let mut prior = robovac::robot::lidar_map::EvidenceMap::<4096>::new();
+    host_sim::sim::scan::fill_prior(&mut prior, &world, 50, true).unwrap();
+    let (cx, cy) = prior.cell_of(2900, 1500);
+    assert_eq!(
+        prior.state(cx, cy),
+        robovac::robot::lidar_map::CellState::Free
+    );
+    let mut sim = Sim::new(
+        RobotConfig::default(),
+        world,
+        (1.5, 1.5, 0.0),
+        Noise::None,
+        1,
+    );
+    sim.set_duty(600, 600);
+    for _ in 0..5000 {
+        sim.step();
+    }
+    let r = RobotConfig::default().diameter_m / 2.0;
+    assert!(
+        sim.pose.0 <= 2.5 - r + 1e-9 && sim.pose.0 > 2.5 - r - 0.05,
+        "{:?}",
+        sim.pose
+    );
+    assert_eq!(sim.collisions.len(), 1);
+    assert!(sim.collisions[0].unseen && !sim.collisions[0].by_person);
+    let b = sim.read_bumper();
+    assert!(b.left && b.right, "a head-on contact closes both switches");
+}
+
+/// A crossbar blocks the body like a wall the lidar cannot see.
+#[test]
+fn a_crossbar_stops_the_body_unseen() {
+    use host_sim::sim::objects::{LowKind, LowObject};
+    let bar = LowObject {
+        kind: LowKind::Crossbar,
+        a: (2.55, 0.8),
+        b: (2.55, 2.2),
+    };
+    let world = furnished(&[bar]);
+    assert!(world.ray(1.5, 1.5, 0.0, 10.0).unwrap() > 2.3);
+    let mut sim = Sim::new(
+        RobotConfig::default(),
+        world,
+        (1.5, 1.5, 0.0),
+        Noise::None,
+        1,
+    );
+    sim.set_duty(600, 600);
+    for _ in 0..5000 {
+        sim.step();
+    }
+    assert!(sim.pose.0 < 2.5 - 0.165 + 1e-9, "{:?}", sim.pose);
+    assert!(sim.collisions.iter().all(|c| c.unseen));
+    assert_eq!(sim.collisions.len(), 1);
+}
+
+/// A cable across the way: a wheel driven onto it stops (no more ticks
+/// on its encoder) and the body stays short of it, with no collision and
+/// the bumper open; driven backward, the wheel turns again.
+#[test]
+fn a_cable_stalls_a_wheel_until_it_backs_off() {
+    use host_sim::sim::objects::{LowKind, LowObject};
+    use robovac::robot::hal::BumperSwitches;
+    let cable = LowObject {
+        kind: LowKind::Cable,
+        a: (2.55, 0.5),
+        b: (2.55, 2.5),
+    };
+    let world = furnished(&[cable]);
+    let mut sim = Sim::new(
+        RobotConfig::default(),
+        world,
+        (1.5, 1.5, 0.0),
+        Noise::None,
+        1,
+    );
+    sim.set_duty(500, 500);
+    for _ in 0..4000 {
+        sim.step();
+    }
+    // The cable's cells start at x = 2.5; the wheels sit on the axle.
+    assert!(sim.pose.0 < 2.5 && sim.pose.0 > 2.4, "{:?}", sim.pose);
+    let held = (sim.encoder(0), sim.encoder(1));
+    for _ in 0..1000 {
+        sim.step();
+    }
+    assert_eq!(
+        (sim.encoder(0), sim.encoder(1)),
+        held,
+        "a held wheel ticked"
+    );
+    assert!(sim.collisions.is_empty());
+    let b = sim.read_bumper();
+    assert!(!b.left && !b.right);
+    assert!(!sim.snags.is_empty() && sim.snag_time_s > 0.9);
+    sim.set_duty(-500, -500);
+    for _ in 0..500 {
+        sim.step();
+    }
+    assert!(
+        sim.encoder(0) != held.0 && sim.pose.0 < 2.4,
+        "{:?}",
+        sim.pose
+    );
+}

@@ -78,7 +78,9 @@ sized_impl!([] {
         };
         let contact = at(bearing_mrad);
         let seen = sees_contact(m.points(), &pose, m.cfg.radius_mm as i64, bearing_mrad);
-        let marked = if seen { 0 } else { self.mark(&at, bearing_mrad) };
+        let spots = [-1, 0, 1].map(|k| at(bearing_mrad + k * SPREAD_MRAD));
+        let marked = if seen { 0 } else { self.mark(&spots) };
+        self.m.counters.bump_marks += marked as u32;
         let event = EventKind::Bumped {
             x_mm: contact.0,
             y_mm: contact.1,
@@ -87,18 +89,43 @@ sized_impl!([] {
         self.m.events.push(at_us, event);
     }
 
-    /// Marks the three cells at `bearing_mrad` and ±[`SPREAD_MRAD`] on the
-    /// rim (`at`); returns how many were not walls already.
-    fn mark(&mut self, at: &impl Fn(i32) -> (i32, i32), bearing_mrad: i32) -> u8 {
+    /// A wheel stalled with nothing in sight that control handed off:
+    /// mark the evidence cell just ahead of that wheel's contact (half a
+    /// cell ahead of the axle, half the wheelbase aside), where the cable
+    /// or rug's edge lies, and plan the leg again after the back-off. The
+    /// configuration space then keeps the body, and so the wheels, off
+    /// it; a long cable is found piece by piece, a stall each.
+    pub(super) fn wheel_stalled(&mut self, at_us: u64, pose: Pose, left: bool) {
+        let m = &mut *self.m;
+        m.bump_replan = true;
+        let ahead = self.p.map.res_mm() as i64 / 2;
+        let half = m.cfg.geometry.wheelbase_um as i64 / 2000;
+        let aside = if left { half } else { -half };
+        let (s, c) = sin_cos_q30(pose.theta_mrad as i64 * 1000);
+        let spot = (
+            pose.x_mm.saturating_add(((ahead * c - aside * s) >> 30) as i32),
+            pose.y_mm.saturating_add(((ahead * s + aside * c) >> 30) as i32),
+        );
+        let marked = self.mark(&[spot]);
+        self.m.counters.stall_marks += marked as u32;
+        let event = EventKind::WheelStalled {
+            x_mm: spot.0,
+            y_mm: spot.1,
+            marked,
+        };
+        self.m.events.push(at_us, event);
+    }
+
+    /// Marks the evidence cells at `spots` (world mm) as walls the lidar
+    /// does not see; returns how many were not walls already.
+    fn mark(&mut self, spots: &[(i32, i32)]) -> u8 {
         let r = (self.m.cfg.radius_mm + self.m.cfg.margin_mm) as u32;
         let mut marked = 0;
-        for k in [-1, 0, 1] {
-            let (x, y) = at(bearing_mrad + k * SPREAD_MRAD);
+        for &(x, y) in spots {
             if !self.p.map.mark_contact(x, y) {
                 continue;
             }
             marked += 1;
-            self.m.counters.bump_marks += 1;
             if self.m.phase == Phase::Edge && self.m.fine_is_edge {
                 // The edge pass keeps its grid (its swept layer lives
                 // there): stamp the new wall into it.

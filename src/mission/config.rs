@@ -358,6 +358,9 @@ pub struct Counters {
     /// Evidence cells marked as walls where the bumper felt something the
     /// lidar did not see.
     pub bump_marks: u32,
+    /// Evidence cells marked as walls where a wheel stalled with nothing
+    /// in sight (a cable, a rug's edge).
+    pub stall_marks: u32,
     /// Planning cells marked blocked after repeated stalls.
     pub blocked_cells: u32,
     /// Sub-paths given up (timeouts, avoidance timeouts, stalls).
@@ -408,6 +411,7 @@ impl Counters {
             stalls: 0,
             bumps: 0,
             bump_marks: 0,
+            stall_marks: 0,
             blocked_cells: 0,
             skipped: 0,
             detours: 0,

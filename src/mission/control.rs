@@ -18,6 +18,7 @@ use crate::nav::follow::{follow, FollowCmd};
 use crate::nav::geometry::RobotFrame;
 use crate::nav::guard::{limit_speed, FreeDistance, GuardParams};
 use crate::robot::odometry::Pose;
+use crate::robot::wheel_control::WheelFault;
 
 /// How long the robot backs off (at 100 mm/s) after a bump: 80 mm, which
 /// takes the body clear of the marked spot by more than the planner's
@@ -378,16 +379,36 @@ impl Mission {
         (best(&acc[0]), best(&acc[1]))
     }
 
+    /// Something the lidar sees explains a stall: a point within 60 mm of
+    /// the rim, anywhere around (a person's foot, a wall).
+    ///
+    /// Tried and dropped: only points on the side the robot drove toward,
+    /// and none for a turn in place (a round body turning pushes
+    /// nothing). It marked people who had pushed into the robot from the
+    /// side as walls, and next to a wall, where the robot cannot back off,
+    /// every replan turned it onto the cable again (2,961 stalls in one
+    /// home-flat mission against 86).
+    fn stall_seen(&mut self, pose: &Pose) -> bool {
+        let reach = (self.cfg.radius_mm + 60) as i64;
+        self.points().any(|q| {
+            let (dx, dy) = ((q.0 - pose.x_mm) as i64, (q.1 - pose.y_mm) as i64);
+            dx * dx + dy * dy < reach * reach
+        })
+    }
+
     /// A wheel stalled: back off. Something the lidar sees against the
-    /// body (a person, a chair) is an obstruction to back away from; only
-    /// a stall with nothing in sight (a rug's edge, a cable) counts toward
-    /// giving the place up.
+    /// body (a person, a chair) is an obstruction to back away from; a
+    /// stall with nothing in sight (a rug's edge, a cable) is handed to
+    /// the planner, which marks the spot ahead of that wheel and plans the
+    /// leg again around it ([`Note::Stalled`]), and counts toward giving
+    /// the sub-path up.
     ///
     /// A stall while already backing off (wedged: something behind, where
     /// there is no bumper) does not back off again, which would stall
     /// again forever: the sub-path is given up as stalled and the follower
     /// turns in place toward the next one, a move that cannot push.
     fn stalled(&mut self, now_us: u64, pose: &Pose) {
+        let left = self.drive.wheels.fault() == Some(WheelFault::LeftStall);
         self.drive.wheels.clear_fault();
         self.counters.stalls += 1;
         if matches!(self.activity, Activity::BackOff { .. }) {
@@ -395,13 +416,11 @@ impl Mission {
             self.cmd = (0, 0);
             return;
         }
-        let reach = (self.cfg.radius_mm + 60) as i64;
-        let touching = self.points().any(|q| {
-            let (dx, dy) = ((q.0 - pose.x_mm) as i64, (q.1 - pose.y_mm) as i64);
-            dx * dx + dy * dy < reach * reach
-        });
-        if !touching {
+        if !self.stall_seen(pose) {
             self.retries = self.retries.saturating_add(1);
+            let at_us = now_us;
+            let pose = *pose;
+            self.hand_off(now_us, Note::Stalled { at_us, pose, left });
         }
         self.activity = Activity::BackOff {
             until_us: now_us + 1_200_000,

@@ -71,6 +71,17 @@ pub enum EventKind {
         /// was touched, or the spot was marked already).
         marked: u8,
     },
+    /// A wheel stalled with nothing the lidar sees against the body (a
+    /// cable, a rug's edge): the robot backs off and plans the leg again
+    /// around the spot.
+    WheelStalled {
+        /// Where: just ahead of the stalled wheel, mm.
+        x_mm: i32,
+        /// North, mm.
+        y_mm: i32,
+        /// Evidence cells marked as walls for it (0: marked already).
+        marked: u8,
+    },
 }
 
 /// An event and when it happened.

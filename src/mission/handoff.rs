@@ -42,6 +42,10 @@ pub(super) enum Note {
         pose: Pose,
         bearing_mrad: i32,
     },
+    /// A wheel (`left`, else the right) stalled at `at_us`, at `pose`,
+    /// with nothing the lidar sees against the body: a cable or a rug's
+    /// edge under it.
+    Stalled { at_us: u64, pose: Pose, left: bool },
 }
 
 /// The notes waiting for the planning step.

@@ -36,6 +36,7 @@ sized_impl!([] {
                     pose,
                     bearing_mrad,
                 } => self.bumped(at_us, pose, bearing_mrad),
+                Note::Stalled { at_us, pose, left } => self.wheel_stalled(at_us, pose, left),
             }
         }
     }

@@ -5,7 +5,20 @@ use std::path::{Path, PathBuf};
 use super::args::{load_world_map, parse_point, write_file, MapArgs, ModeArg, NoiseArg};
 use super::progress;
 use host_sim::run::mission::{MissionOptions, MissionTrace};
+use host_sim::sim::objects::{parse as parse_object, LowKind, LowObject};
 use host_sim::sim::zones::parse_corners;
+
+fn sofa(s: &str) -> Result<LowObject, String> {
+    parse_object(LowKind::Sofa, s)
+}
+
+fn crossbar(s: &str) -> Result<LowObject, String> {
+    parse_object(LowKind::Crossbar, s)
+}
+
+fn cable(s: &str) -> Result<LowObject, String> {
+    parse_object(LowKind::Cable, s)
+}
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -101,6 +114,19 @@ pub struct Args {
     /// body never crosses or touches it.
     #[arg(long, value_parser = parse_corners, value_name = "X0,Y0,X1,Y1")]
     pub virtual_wall: Vec<(f64, f64, f64, f64)>,
+    /// A sofa X0,Y0,X1,Y1 (metres, opposite corners; repeat for more) in
+    /// the twin's world: the lidar's plane passes under its frame, the
+    /// body cannot (the bumper finds it).
+    #[arg(long, value_parser = sofa, value_name = "X0,Y0,X1,Y1")]
+    pub sofa: Vec<LowObject>,
+    /// A chair's crossbar X0,Y0,X1,Y1 (metres, its ends), under the
+    /// lidar's plane: the body cannot cross it (the bumper finds it).
+    #[arg(long, value_parser = crossbar, value_name = "X0,Y0,X1,Y1")]
+    pub crossbar: Vec<LowObject>,
+    /// A cable or a rug's edge X0,Y0,X1,Y1 (metres, its ends) on the
+    /// floor: a wheel driven onto it stalls.
+    #[arg(long, value_parser = cable, value_name = "X0,Y0,X1,Y1")]
+    pub cable: Vec<LowObject>,
     /// Leave out the map's own no-go zones and virtual walls (a
     /// ValetudoMap's), for comparison.
     #[arg(long)]
@@ -192,6 +218,11 @@ fn options(a: &Args) -> Result<MissionOptions, String> {
         bumper: !a.no_bumper,
         battery: battery_of(a)?,
         zones: zones_of(&a.no_go, &a.virtual_wall),
+        objects: [&a.sofa, &a.crossbar, &a.cable]
+            .into_iter()
+            .flatten()
+            .copied()
+            .collect(),
         map_store: host_sim::run::mission::MapStore {
             load: a
                 .load_map

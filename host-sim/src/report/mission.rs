@@ -32,6 +32,15 @@ pub fn summary(rep: &MissionReport) -> String {
             rep.charging_time_s / 60.0
         ),
     };
+    let objects = rep.objects.map_or(String::new(), |o| {
+        format!(
+            " · {} unseen objects: {} contacts, {} wheel snags, {:.1} % of the floor near them swept",
+            o.objects,
+            o.contacts,
+            o.snags,
+            100.0 * o.near_coverage
+        )
+    });
     format!(
         "finished {} · back at start {} · coverage {:.2} % · repetition {:.2} · collisions {} (people into robot {}) · min clearance {:.3} m · {:.1} m in {:.0} s of cleaning (ideal {:.0} s, ×{:.2}; time ÷ area-ideal {:.2}) · avoidances {} · {:.0}× real time",
         rep.finished,
@@ -50,6 +59,37 @@ pub fn summary(rep: &MissionReport) -> String {
         rep.sim_time_s / rep.wall_time_s.max(1e-9),
     ) + &charges
         + &zones
+        + &objects
+}
+
+/// Things the lidar cannot see: sofas brown and hatched, crossbars brown
+/// lines, cables purple dashes; where a wheel snagged, purple dots.
+fn objects_svg(c: &mut Canvas, objects: &[crate::sim::objects::LowObject], snags: &[(f64, f64)]) {
+    use crate::sim::objects::LowKind;
+    for o in objects {
+        let (a, b) = (c.px(o.a), c.px(o.b));
+        let shape = match o.kind {
+            LowKind::Sofa => format!(
+                "<rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\" fill=\"#8c564b\" fill-opacity=\"0.35\" stroke=\"#8c564b\" stroke-dasharray=\"4,2\"/>\n",
+                a.0.min(b.0), a.1.min(b.1), (a.0 - b.0).abs(), (a.1 - b.1).abs()
+            ),
+            LowKind::Crossbar => format!(
+                "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"#8c564b\" stroke-width=\"3\"/>\n",
+                a.0, a.1, b.0, b.1
+            ),
+            LowKind::Cable => format!(
+                "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"#9467bd\" stroke-width=\"3\" stroke-dasharray=\"5,3\"/>\n",
+                a.0, a.1, b.0, b.1
+            ),
+        };
+        c.raw(&shape);
+    }
+    for &p in snags {
+        let (x, y) = c.px(p);
+        c.raw(&format!(
+            "<circle cx=\"{x:.1}\" cy=\"{y:.1}\" r=\"4\" fill=\"#9467bd\"/>\n"
+        ));
+    }
 }
 
 /// What a ValetudoMap adds: the vendor robot's own paths (grey).
@@ -165,6 +205,7 @@ pub fn mission_svg(
     }
     map_extras(&mut c, map);
     zones_svg(&mut c, &t.zones);
+    objects_svg(&mut c, &t.objects, &t.snags);
     c.polyline(
         &t.truth,
         5,
@@ -226,7 +267,7 @@ pub fn mission_svg(
             rep.dock_error_mm,
             rep.dock_heading_error_mrad
         ),
-        "green: swept · red: reachable floor missed · blue line: robot (truth) · pink dashes: its own estimate · orange: people · rings: avoidances · crosses: collisions · square: dock · grey: the vendor robot's paths · red hatched: no-go areas, red lines: virtual walls".to_string(),
+        "green: swept · red: reachable floor missed · blue line: robot (truth) · pink dashes: its own estimate · orange: people · rings: avoidances · crosses: collisions · square: dock · grey: the vendor robot's paths · red hatched: no-go areas, red lines: virtual walls · brown: sofas and crossbars, purple dashes: cables (dots: wheel snags)".to_string(),
     ];
     c.finish(&lines)
 }

@@ -88,6 +88,9 @@ pub struct MissionOptions {
     /// The twin's battery and its gauge (None: none; the executive
     /// keeps to its time budget, as with `--pil`).
     pub battery: Option<crate::sim::battery::BatterySpec>,
+    /// Things the lidar cannot see, put in the twin's world (the command
+    /// line's `--sofa`, `--crossbar`, `--cable`).
+    pub objects: Vec<crate::sim::objects::LowObject>,
 }
 
 impl MissionOptions {
@@ -118,6 +121,7 @@ impl MissionOptions {
             zones: Vec::new(),
             map_store: Default::default(),
             battery: Some(crate::sim::battery::REFERENCE),
+            objects: Vec::new(),
         }
     }
 }
@@ -221,6 +225,9 @@ pub struct MissionReport {
     /// The owner's no-go zones and virtual walls, kept to or not.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub zones: Option<ZoneFigures>,
+    /// What the lidar cannot see under or over its plane, and its cost.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub objects: Option<crate::sim::objects::ObjectFigures>,
     /// Processor-in-the-loop: what the firmware measured on itself.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub firmware: Option<super::pil::FirmwareFigures>,
@@ -260,6 +267,10 @@ pub struct MissionTrace {
     pub kidnap: Option<(f64, (f64, f64, f64))>,
     /// The owner's no-go zones and virtual walls.
     pub zones: Vec<Zone>,
+    /// Things the lidar cannot see ([`crate::sim::objects`]).
+    pub objects: Vec<crate::sim::objects::LowObject>,
+    /// Where a wheel ran onto a cable and stalled, m.
+    pub snags: Vec<(f64, f64)>,
     /// The map saved at the end ([`MapStore::save`]), or the last map and
     /// progress saved ([`MapStore::progress_every_s`]), and its bytes.
     pub saved_map: Option<(MemStore, u32)>,
@@ -282,6 +293,7 @@ pub fn run_mission(
     let mut world = World::new(opts.map.clone(), opts.cell_m);
     world.zones = crate::sim::zones::map_zones(&opts.map);
     world.zones.extend_from_slice(&opts.zones);
+    crate::sim::objects::place(&mut world, &opts.objects)?;
     let (start, dock_heading) = place_dock(opts, &mut world, r)?;
     let heading = opts.start_heading.unwrap_or(dock_heading);
     let pose = (start.0, start.1, heading);
@@ -360,6 +372,7 @@ pub(crate) fn drive(
     let mut trace = MissionTrace {
         start,
         zones: sim.world.zones.clone(),
+        objects: sim.world.objects.clone(),
         ..Default::default()
     };
     if let (true, Some(store)) = (opts.map_store.restore_progress, &opts.map_store.load) {
@@ -416,6 +429,7 @@ pub(crate) fn drive(
     }
     mission.debug_grid(true);
     finish_report(&mut rep, mission, sim, floor, pose, &cfg);
+    rep.objects = crate::sim::objects::ObjectFigures::of(sim, floor);
     battery_report(&mut rep, &power);
     trace.truth = std::mem::take(&mut sim.trajectory);
     rep.injected = inject.done;
@@ -423,6 +437,7 @@ pub(crate) fn drive(
         .lidar_gap_s
         .and_then(|g| super::inject::stop_after_silence_ms(&trace.truth, g));
     trace.people = sim.world.people.iter().map(|p| p.track.clone()).collect();
+    trace.snags = sim.snags.iter().map(|s| s.1).collect();
     trace.collisions = sim
         .collisions
         .iter()

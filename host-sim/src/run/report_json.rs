@@ -35,6 +35,10 @@ struct CountersJson {
     /// Evidence cells it marked for them (left out when 0).
     #[serde(skip_serializing_if = "is_zero")]
     bump_marks: u32,
+    /// Evidence cells marked where a wheel stalled with nothing in sight
+    /// (left out when 0).
+    #[serde(skip_serializing_if = "is_zero")]
+    stall_marks: u32,
 }
 
 fn is_zero(n: &u32) -> bool {
@@ -63,6 +67,7 @@ pub(super) fn counters_json<S: serde::Serializer>(
             routes: c.routes,
             bumps: c.bumps,
             bump_marks: c.bump_marks,
+            stall_marks: c.stall_marks,
         },
         s,
     )

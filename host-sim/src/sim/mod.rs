@@ -5,6 +5,7 @@ pub mod battery;
 pub mod config;
 pub mod floor;
 pub mod hal;
+pub mod objects;
 pub mod robot;
 pub mod scan;
 pub mod world;

@@ -18,6 +18,10 @@ pub use crate::sim::config::{exponential, gauss, in_range, signed_in, Noise, Rob
 pub const MOUNT: robovac::robot::lidar_map::LidarMount =
     robovac::robot::lidar_map::LidarMount::ld06_centred(true);
 
+/// A wheel driven forward stops when its contact point comes this close
+/// to a cable's cell (m): a wheel's radius against a cable's.
+const SNAG_REACH_M: f64 = 0.01;
+
 /// A collision: the body moved into something.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Collision {
@@ -83,6 +87,13 @@ pub struct Sim {
     wheelbase_true_m: f64,
     burst: Burst,
     in_contact: bool,
+    /// Each wheel (left, right) is held by a cable or a rug's edge.
+    snagged: [bool; 2],
+    /// Every time a wheel ran onto a cable or a rug's edge and stalled:
+    /// (sim time, s; where, m).
+    pub snags: Vec<(f64, (f64, f64))>,
+    /// Time a wheel was held by a cable or a rug's edge, s.
+    pub snag_time_s: f64,
     /// Every collision.
     pub collisions: Vec<Collision>,
     /// The bumper's switches closed at some physics step since the last
@@ -152,6 +163,9 @@ impl Sim {
             wheelbase_true_m,
             burst,
             in_contact: false,
+            snagged: [false; 2],
+            snags: Vec::new(),
+            snag_time_s: 0.0,
             collisions: Vec::new(),
             bumper: Bumper::RELEASED,
             lidar_angle_deg: 0.0,
@@ -242,6 +256,7 @@ impl Sim {
         if self.noise == Noise::Harsh {
             self.step_burst();
         }
+        self.hold_snagged_wheels(dt);
         let b = &self.burst;
         let extra = if self.t_us < b.until_us {
             b.slip
@@ -273,6 +288,45 @@ impl Sim {
                 y - r * (t2.cos() - th.cos()),
                 t2,
             )
+        }
+    }
+
+    /// A wheel driven forward onto a cable's or rug edge's cell it is not
+    /// on ([`World::snag`]) cannot climb it: it stops (no ground motion,
+    /// no encoder ticks) while the other turns on, so the body pivots
+    /// about it, until it is driven backward. The bumper stays open and
+    /// nothing is touched. A wheel already on the cell (it turned onto
+    /// it) rolls over.
+    fn hold_snagged_wheels(&mut self, dt: f64) {
+        if self.world.snag.is_empty() {
+            return;
+        }
+        let (x, y, th) = self.pose;
+        let half = self.wheelbase_true_m / 2.0;
+        let mut any = false;
+        for (i, side) in [1.0, -1.0].into_iter().enumerate() {
+            let step = self.wheel_v[i] * self.diameter_factor[i] * dt;
+            let at = (x - side * half * th.sin(), y + side * half * th.cos());
+            // The wheel stops at the cable, not a step short of it.
+            let ahead = step.max(SNAG_REACH_M);
+            let to = (at.0 + ahead * th.cos(), at.1 + ahead * th.sin());
+            let held =
+                step > 0.0 && self.world.snag_at(to.0, to.1) && !self.world.snag_at(at.0, at.1);
+            if held {
+                if !self.snagged[i] {
+                    self.snags.push((self.t_us as f64 * 1e-6, at));
+                }
+                self.wheel_v[i] = 0.0;
+            }
+            // One snag lasts until the wheel is driven backward.
+            if step < 0.0 {
+                self.snagged[i] = false;
+            }
+            self.snagged[i] |= held;
+            any |= held;
+        }
+        if any {
+            self.snag_time_s += dt;
         }
     }
 

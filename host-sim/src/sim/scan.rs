@@ -40,7 +40,9 @@ fn uniform(rng: &mut SplitMix64) -> f64 {
 }
 
 /// Sizes `map` to the world at `res_mm` and fills it with the floor plan
-/// (the known mode's prior; the caller freezes it).
+/// (the known mode's prior; the caller freezes it). What the lidar cannot
+/// see under or over its plane is not on it: the prior is the floor plan
+/// a lidar would map.
 pub fn fill_prior<const N: usize>(
     map: &mut EvidenceMap<N>,
     world: &World,
@@ -61,7 +63,7 @@ pub fn fill_prior<const N: usize>(
     for cy in 0..eh as i32 {
         for cx in 0..ew as i32 {
             let (x, y) = ((cx as f64 + 0.5) * res, (eh as f64 - cy as f64 - 0.5) * res);
-            let st = if world.blocked_at(x, y) {
+            let st = if world.blocked_at(x, y) && !world.low_at(x, y) {
                 CellState::Occupied
             } else {
                 CellState::Free

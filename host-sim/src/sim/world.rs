@@ -56,6 +56,15 @@ pub struct World {
     /// Blocked cells of a glass door or mirror: rays pass through and
     /// return from beyond (harsh floors). The body still cannot.
     pub glass: std::collections::HashSet<(i32, i32)>,
+    /// Blocked cells of objects under or over the lidar's plane (a sofa's
+    /// frame, a chair's crossbar: [`crate::sim::objects`]): rays pass
+    /// through, the body cannot.
+    pub low: std::collections::HashSet<(i32, i32)>,
+    /// Free cells of a cable or a rug's edge: a wheel driven onto one
+    /// stalls.
+    pub snag: std::collections::HashSet<(i32, i32)>,
+    /// The objects placed ([`crate::sim::objects::place`]).
+    pub objects: Vec<crate::sim::objects::LowObject>,
     /// The owner's no-go zones and virtual walls (the map's own and the
     /// command line's): rules the body keeps to, nothing the lidar sees.
     pub zones: Vec<robovac::grid::Zone>,
@@ -70,8 +79,50 @@ impl World {
             people: Vec::new(),
             dark: Default::default(),
             glass: Default::default(),
+            low: Default::default(),
+            snag: Default::default(),
+            objects: Vec::new(),
             zones: Vec::new(),
         }
+    }
+
+    /// Blocks cell (column, row from the top) with something the lidar
+    /// cannot see ([`Self::low`]); cells off the map are left alone.
+    pub fn add_low(&mut self, c: i32, r: i32) {
+        let (w, h) = (self.map.width as i32, self.map.height as i32);
+        if c < 0 || r < 0 || c >= w || r >= h {
+            return;
+        }
+        if let Some(b) = self.map.blocked.get_mut((r * w + c) as usize) {
+            *b = true;
+            self.low.insert((c, r));
+        }
+    }
+
+    /// True when the lidar sees the blocked cell (column, row): not dark,
+    /// not glass, not under or over its plane.
+    pub fn seen(&self, cell: (i32, i32)) -> bool {
+        !self.dark.contains(&cell) && !self.glass.contains(&cell) && !self.low.contains(&cell)
+    }
+
+    /// The grid cell (column, row from the top) of a world point.
+    pub fn cell_of(&self, x: f64, y: f64) -> (i32, i32) {
+        let c = (x / self.cell_m).floor() as i32;
+        (
+            c,
+            self.map.height as i32 - 1 - (y / self.cell_m).floor() as i32,
+        )
+    }
+
+    /// True when the world point lies on a cable's or rug edge's cell.
+    pub fn snag_at(&self, x: f64, y: f64) -> bool {
+        self.snag.contains(&self.cell_of(x, y))
+    }
+
+    /// True when the world point lies on something the lidar cannot see
+    /// because it is under or over its plane.
+    pub fn low_at(&self, x: f64, y: f64) -> bool {
+        self.low.contains(&self.cell_of(x, y))
     }
 
     /// How far (m) a disc of radius `r` at (x, y) reaches into the
@@ -206,7 +257,7 @@ impl World {
             }
             false
         });
-        best.map(|(_, p, cell)| (p, !self.dark.contains(&cell) && !self.glass.contains(&cell)))
+        best.map(|(_, p, cell)| (p, self.seen(cell)))
     }
 
     /// Distance from (x, y) along heading `a` to the first wall or person,
@@ -237,8 +288,8 @@ impl World {
         best.filter(|d| *d <= max)
     }
 
-    /// The first wall along the ray and whether it is dark; glass is
-    /// passed through.
+    /// The first wall along the ray and whether it is dark; glass and
+    /// what lies under or over the scan plane are passed through.
     fn ray_walls(&self, x: f64, y: f64, dx: f64, dy: f64, max: f64) -> Option<(f64, bool)> {
         let c = self.cell_m;
         let (mut gx, mut gy) = ((x / c).floor() as i64, (y / c).floor() as i64);
@@ -281,7 +332,8 @@ impl World {
                 return Some((t, false)); // the map's edge is a wall
             }
             let cell = (gx as i32, row as i32);
-            if self.map.is_blocked(cell.0, cell.1) && !self.glass.contains(&cell) {
+            let through = self.glass.contains(&cell) || self.low.contains(&cell);
+            if self.map.is_blocked(cell.0, cell.1) && !through {
                 return Some((t, self.dark.contains(&cell)));
             }
             if t_max_x < t_max_y {
