@@ -46,8 +46,16 @@ sized_impl!([] {
         }
         self.top_up_cover();
         let m = &mut *self.m;
-        if m.planner_done && m.queue.is_empty() && m.feed.is_none() && !self.next_room() {
+        if !(m.planner_done && m.queue.is_empty() && m.feed.is_none()) {
+            return;
+        }
+        // Without a room tour, the edge pass runs once over the home;
+        // with one, over each room once its lanes are done.
+        if !m.rooms.on() || m.rooms.edge_due {
             self.start_edge(pose);
+        } else if !self.next_room() {
+            self.m.phase = Phase::ReturnSearch;
+            self.begin_return(pose);
         }
     }
 

@@ -8,6 +8,10 @@
 //! the lanes' track went through is one the edge pass would sweep again,
 //! since a lane's anchor next to a wall is pushed to the same boundary
 //! (the nearest position where the body fits, [`cspace::anchor_mm`]).
+//!
+//! **Per room.** With a room tour the pass runs over the open rooms each
+//! time a room's lanes are done ([`super::rooms`]), then the next room
+//! opens.
 
 use super::{Fault, MapMode, Phase, HOME_TRIES};
 use crate::grid::Layer;
@@ -95,12 +99,26 @@ sized_impl!([] {
         let _ = m.queue.push(fc, false);
         m.chord.reset(fc);
         m.trace_at = None;
-        if !m.edge.start_keeping(self.p.fine, from) {
-            m.phase = Phase::ReturnSearch;
-            self.begin_return(pose);
+        self.scope_edges(true);
+        if !self.m.edge.start_keeping(self.p.fine, from) {
+            self.edges_done(pose);
             return;
         }
-        m.phase = Phase::Edge;
+        self.m.phase = Phase::Edge;
+    }
+
+    /// The edge pass (over the open rooms) is done: the next room's
+    /// lanes, or home.
+    fn edges_done(&mut self, pose: &Pose) {
+        let from = self.m.queue.last_end().unwrap_or((pose.x_mm, pose.y_mm));
+        if self.next_room_after_edges(from) {
+            let m = &mut *self.m;
+            m.phase = Phase::Cover;
+            m.fine_is_edge = false;
+            return;
+        }
+        self.m.phase = Phase::ReturnSearch;
+        self.begin_return(pose);
     }
 
     /// Boxed in on the map (someone who stood beside the robot is still
@@ -195,9 +213,8 @@ sized_impl!([] {
                 Ok(EdgeStep::Pending) => return,
                 Ok(EdgeStep::Done) => {
                     self.flush_chord();
-                    self.m.phase = Phase::ReturnSearch;
                     let pose = self.m.drive.odom.pose();
-                    self.begin_return(&pose);
+                    self.edges_done(&pose);
                     return;
                 }
                 Err(SearchError::OutOfWindow) => {

@@ -260,6 +260,9 @@ pub struct Mission {
     subpath_since_us: u64,
     retries: u8,
     guard_block_since: Option<u64>,
+    /// Where the move the guard last held (and the leg was planned again
+    /// for) led, world mm, and how many times in a row it was held.
+    held_to: Option<((i32, i32), u8)>,
     /// The bumper as last read ([`Mission::set_bumper`]).
     bumper: Bumper,
     // Planning's own.
@@ -353,6 +356,7 @@ impl Mission {
             subpath_since_us: 0,
             retries: 0,
             guard_block_since: None,
+            held_to: None,
             bumper: Bumper::RELEASED,
             avoid_since_us: 0,
             start: Pose {

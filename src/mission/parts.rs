@@ -157,10 +157,16 @@ sized_impl!([MissionParts for Parts<'_, N, NW, OPEN, LCAP, PCAP, FW, EV, MW>] {
         let clean = |x: i32, y: i32| g.get(Layer::Covered, x, y) && !pending(x, y);
         let mut end = at + progress_image::save(g, cell, clean, store, at)?;
         if m.phase == super::Phase::Edge && m.fine_is_edge {
-            // The edge pass's own progress: its visited contour cells.
+            // The edge pass's own progress: its visited contour cells,
+            // not the rooms outside its scope ([`super::rooms`]).
             let f = &*self.fine;
             let at = progress_image::offset_after(end);
-            let visited = |x: i32, y: i32| f.get(Layer::Covered, x, y);
+            let scoped = |x: i32, y: i32| {
+                let (mx, my) = cspace::fine_centre_mm(map, x, y);
+                let (gx, gy) = cspace::coarse_of(map, cell, mx, my);
+                m.rooms.out_of_scope(g, self.rooms, gx, gy)
+            };
+            let visited = |x: i32, y: i32| f.get(Layer::Covered, x, y) && !scoped(x, y);
             end = at + progress_image::save(f, self.map.res_mm(), visited, store, at)?;
         }
         Ok(end)

@@ -17,11 +17,21 @@
 //! next to no open one (cut off on the map) is opened last, nearest
 //! first. In unknown mode the map grows as the robot goes, so there are
 //! no rooms and the planner runs over the whole home as before.
+//!
+//! **Edges per room (issue 12: lanes, then the room's edges).** When a
+//! room's lanes are done, the edge pass runs over the open rooms only:
+//! the fine cells of fenced rooms are marked covered first
+//! ([`Exec::scope_edges`]), so the pass takes them for swept and never
+//! goes there; when it is done the marks are lifted and the next room
+//! opens. The edge pass of the rooms already edged left their contour
+//! cells visited, so each pass runs along the new room's edges.
 
 use super::cover::ALL_CELLS;
 use crate::grid::rooms::{self, label_at, RoomParams, NONE};
 use crate::grid::Cell;
+use crate::grid::Layer;
 use crate::math::bits::Bits;
+use crate::nav::cspace;
 use crate::robot::lidar_map::CellBox;
 
 /// Which rooms there are and which are open. How many have been entered
@@ -32,6 +42,8 @@ pub(super) struct RoomTour {
     count: u8,
     /// Open rooms, a bit each (ids 1..=126).
     open: Bits<4>,
+    /// A room opened since the last edge pass: its edges are due.
+    pub(super) edge_due: bool,
 }
 
 impl RoomTour {
@@ -40,11 +52,12 @@ impl RoomTour {
         Self {
             count: 0,
             open: Bits::new(),
+            edge_due: false,
         }
     }
 
     /// A tour is under way (more than one room).
-    fn on(&self) -> bool {
+    pub(super) fn on(&self) -> bool {
         self.count > 1
     }
 
@@ -57,6 +70,29 @@ impl RoomTour {
         let was = self.is_open(id);
         self.open.put(id as usize, true);
         !was
+    }
+
+    /// Planning cell (gx, gy) lies outside the edge pass's scope: its room
+    /// is fenced, or, blocked itself (next to a wall), one of its eight
+    /// neighbours' rooms is and none is open ([`Exec::scope_edges`]).
+    pub(super) fn out_of_scope<const NW: usize>(
+        &self,
+        g: &crate::grid::Grid<NW>,
+        labels: &[u8],
+        gx: i32,
+        gy: i32,
+    ) -> bool {
+        let id = label_at(g, labels, gx, gy);
+        if id != NONE {
+            return self.fenced(id);
+        }
+        let (mut fenced, mut open) = (false, false);
+        for (dx, dy) in crate::search::NEIGHBOURS {
+            let n = label_at(g, labels, gx + dx, gy + dy);
+            fenced |= self.fenced(n);
+            open |= n != NONE && self.is_open(n);
+        }
+        fenced && !open
     }
 
     /// A planning cell's room is fenced (not yet open; nothing is
@@ -101,7 +137,51 @@ sized_impl!([] {
     fn open_room(&mut self, id: u8) {
         if self.m.rooms.open(id) && self.m.rooms.on() {
             self.m.counters.rooms_entered += 1;
+            self.m.rooms.edge_due = true;
         }
+    }
+
+    /// Marks (`on`) or clears the fine grid's covered layer over the rooms
+    /// not yet open, so the edge pass keeps to the open ones. A fine cell
+    /// belongs to its planning cell's room; in a blocked planning cell
+    /// (next to a wall, where the contours run), to the rooms of its
+    /// eight neighbours: fenced when one is and none is open.
+    pub(super) fn scope_edges(&mut self, on: bool) {
+        if !self.m.rooms.on() {
+            return;
+        }
+        let (g, labels, fine) = (&*self.p.coarse, &*self.p.rooms, &mut *self.p.fine);
+        let (map, tour) = (&*self.p.map, &self.m.rooms);
+        let (c, res) = (self.m.cfg.plan_cell_mm as i64, map.res_mm().max(1) as i64);
+        // Fine cells whose centre lies in [lo, hi) mm.
+        let span = |lo: i64, hi: i64| ((lo - res / 2 + res - 1).div_euclid(res), (hi - 1 - res / 2).div_euclid(res));
+        for i in 0..g.cells() {
+            let (gx, gy) = g.cell_at(i).xy();
+            if !tour.out_of_scope(g, labels, gx, gy) {
+                continue;
+            }
+            let (x0, x1) = span(gx as i64 * c, (gx as i64 + 1) * c);
+            let (y0, y1) = span(gy as i64 * c, (gy as i64 + 1) * c);
+            for cy in y0..=y1 {
+                for cx in x0..=x1 {
+                    let _ = fine.set(Layer::Covered, cx as i32, cy as i32, on);
+                }
+            }
+        }
+    }
+
+    /// The edge pass over the open rooms is done: lifts its scope and
+    /// opens the next room, whose lanes start where the robot stands (at
+    /// `from`, world mm) when that planning cell is free. False without a
+    /// tour or with every room open.
+    pub(super) fn next_room_after_edges(&mut self, from: (i32, i32)) -> bool {
+        if !self.m.rooms.on() {
+            return false;
+        }
+        self.m.rooms.edge_due = false;
+        self.scope_edges(false);
+        let (gx, gy) = cspace::coarse_of(self.p.map, self.m.cfg.plan_cell_mm, from.0, from.1);
+        self.next_room_from(Cell::from_xy(gx, gy))
     }
 
     /// Blocks the planning cells in `cells` (inclusive, clipped to the
@@ -125,6 +205,12 @@ sized_impl!([] {
     /// starts the planner again where it stands. False when every room
     /// is open (the cleaning is done).
     pub(super) fn next_room(&mut self) -> bool {
+        self.next_room_from(None)
+    }
+
+    /// [`Self::next_room`], the planner starting at `at` when that cell
+    /// is free once the room is open (else where it stood).
+    fn next_room_from(&mut self, at: Option<Cell>) -> bool {
         if !self.m.rooms.on() {
             return false;
         }
@@ -142,7 +228,10 @@ sized_impl!([] {
         }
         self.m.map_dirty = true;
         self.refresh_coarse();
-        let at = self.p.planner.position();
+        let g = &*self.p.coarse;
+        let at = at
+            .filter(|c| g.is_free(c.x as i32, c.y as i32))
+            .unwrap_or(self.p.planner.position());
         if self.p.planner.start_keeping(self.p.coarse, at).is_err() {
             return false;
         }

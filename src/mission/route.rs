@@ -49,6 +49,11 @@ impl Route {
         self.pos < self.wps.len()
     }
 
+    /// `p` (world mm) is one of the route's waypoints.
+    pub fn holds(&self, p: (i32, i32)) -> bool {
+        self.wps.contains(&p)
+    }
+
     /// Drops what is left.
     pub fn clear(&mut self) {
         self.wps.clear();
