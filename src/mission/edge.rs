@@ -20,6 +20,8 @@ use crate::nav::edge::{EdgePass, EdgeStep};
 use crate::nav::geometry::{
     along, dist_mm, fine_segment_clear, nearest_free_fine_within, segment_clear,
 };
+use crate::robot::odometry::Pose;
+use crate::search::SearchError;
 
 /// How far the edge pass's chords may stray from the contour, mm: a
 /// staircase of 5 cm cells along a slanted wall stays within 35 mm of its
@@ -36,8 +38,6 @@ const TRANSIT_CHORD_TOL_MM: i64 = 75;
 /// A pose that moved farther than this since the last mark jumped
 /// (relocalised, or back from the dock): its track is not drawn, mm.
 const TRACE_JUMP_MM: i64 = 250;
-use crate::robot::odometry::Pose;
-use crate::search::SearchError;
 
 sized_impl!([] {
     /// Sizes the fine grid to the map when it is not yet (its covered
