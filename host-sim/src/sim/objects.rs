@@ -57,23 +57,10 @@ impl LowObject {
 
     /// Distance (m) from `p` to the object (0 inside a sofa).
     pub fn distance_m(&self, p: (f64, f64)) -> f64 {
-        let (a, b) = (self.a, self.b);
+        use crate::sim::zones::{rect_distance_m, segment_distance_m};
         match self.kind {
-            LowKind::Sofa => {
-                let dx = (a.0.min(b.0) - p.0).max(p.0 - a.0.max(b.0)).max(0.0);
-                let dy = (a.1.min(b.1) - p.1).max(p.1 - a.1.max(b.1)).max(0.0);
-                dx.hypot(dy)
-            }
-            LowKind::Crossbar | LowKind::Cable => {
-                let (ux, uy) = (b.0 - a.0, b.1 - a.1);
-                let len2 = ux * ux + uy * uy;
-                let t = if len2 > 0.0 {
-                    (((p.0 - a.0) * ux + (p.1 - a.1) * uy) / len2).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
-                (a.0 + t * ux - p.0).hypot(a.1 + t * uy - p.1)
-            }
+            LowKind::Sofa => rect_distance_m(self.a, self.b, p),
+            LowKind::Crossbar | LowKind::Cable => segment_distance_m(self.a, self.b, p),
         }
     }
 

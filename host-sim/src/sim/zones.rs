@@ -73,31 +73,37 @@ pub fn intrusion_m(z: &Zone, x: f64, y: f64, r: f64) -> f64 {
             y0_mm,
             x1_mm,
             y1_mm,
-        } => {
-            let (xa, xb) = (f(x0_mm.min(x1_mm)), f(x0_mm.max(x1_mm)));
-            let (ya, yb) = (f(y0_mm.min(y1_mm)), f(y0_mm.max(y1_mm)));
-            let dx = (xa - x).max(0.0).max(x - xb);
-            let dy = (ya - y).max(0.0).max(y - yb);
-            dx.hypot(dy)
-        }
+        } => rect_distance_m((f(x0_mm), f(y0_mm)), (f(x1_mm), f(y1_mm)), (x, y)),
         Zone::Wall {
             ax_mm,
             ay_mm,
             bx_mm,
             by_mm,
-        } => {
-            let (a, b) = ((f(ax_mm), f(ay_mm)), (f(bx_mm), f(by_mm)));
-            let (ux, uy) = (b.0 - a.0, b.1 - a.1);
-            let len2 = ux * ux + uy * uy;
-            let t = if len2 > 0.0 {
-                (((x - a.0) * ux + (y - a.1) * uy) / len2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            (a.0 + t * ux - x).hypot(a.1 + t * uy - y)
-        }
+        } => segment_distance_m((f(ax_mm), f(ay_mm)), (f(bx_mm), f(by_mm)), (x, y)),
     };
     r - d
+}
+
+/// Distance (m) from `p` to the rectangle with opposite corners `a`, `b`
+/// (0 inside).
+pub fn rect_distance_m(a: (f64, f64), b: (f64, f64), p: (f64, f64)) -> f64 {
+    let (xa, xb) = (a.0.min(b.0), a.0.max(b.0));
+    let (ya, yb) = (a.1.min(b.1), a.1.max(b.1));
+    let dx = (xa - p.0).max(0.0).max(p.0 - xb);
+    let dy = (ya - p.1).max(0.0).max(p.1 - yb);
+    dx.hypot(dy)
+}
+
+/// Distance (m) from `p` to the segment from `a` to `b`.
+pub fn segment_distance_m(a: (f64, f64), b: (f64, f64), p: (f64, f64)) -> f64 {
+    let (ux, uy) = (b.0 - a.0, b.1 - a.1);
+    let len2 = ux * ux + uy * uy;
+    let t = if len2 > 0.0 {
+        (((p.0 - a.0) * ux + (p.1 - a.1) * uy) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a.0 + t * ux - p.0).hypot(a.1 + t * uy - p.1)
 }
 
 /// The deepest a disc of radius `r` at (x, y) reaches into any of
