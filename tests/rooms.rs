@@ -156,3 +156,45 @@ proptest! {
         check(&g, &labels, count);
     }
 }
+
+/// Lanes along the long axis: an L-shaped room counted on its own cells,
+/// and a thin wall the planning cells do not show.
+#[test]
+fn lanes_count_runs_and_walls() {
+    use robovac::grid::rooms::lanes;
+    // A 12 × 3 bar with a 3 × 6 leg: bounding box 12 × 9 (higher than
+    // wide, were it square), yet rows take fewer lanes.
+    let g = grid(
+        "\
+##############
+#............#
+#............#
+#............#
+#...##########
+#...##########
+#...##########
+#...##########
+#...##########
+#...##########
+##############
+",
+    );
+    // One room: every free cell.
+    let labels: Vec<u8> = (0..g.cells())
+        .map(|i| {
+            let (x, y) = g.cell_at(i).xy();
+            u8::from(g.is_free(x, y))
+        })
+        .collect();
+    let joined = |_: (i32, i32), _: (i32, i32)| true;
+    // Rows: 3 in the bar, 6 in the leg; columns: 3 in the leg and bar,
+    // 9 more in the bar.
+    assert_eq!(lanes(&g, &labels, 1, 5, joined), (9, 12));
+    // A thin wall across the bar between x = 6 and 7 (not a blocked
+    // cell): each of the bar's 3 rows meets it, 5 lanes each.
+    let wall = |a: (i32, i32), b: (i32, i32)| !(a.1 <= 3 && a.0 == 6 && b.0 == 7);
+    assert_eq!(lanes(&g, &labels, 1, 5, wall), (9 + 3 * 5, 12));
+    // No room, no lanes.
+    assert_eq!(lanes(&g, &labels, NONE, 5, joined), (0, 0));
+    assert_eq!(lanes(&g, &labels, 2, 5, joined), (0, 0));
+}

@@ -530,3 +530,57 @@ fn every_format_plans_completely() {
         }
     }
 }
+
+/// The mission's room tour turns B-OHA*'s lanes along a room's long axis
+/// (`Coverage::sweep_columns`): on a wide open map, columns when asked,
+/// rows by the map's own aspect; complete either way. Planners with a
+/// fixed priority ignore it.
+#[test]
+fn sweep_direction_can_be_set_after_start() {
+    let map = map_from_ascii(&format!(
+        "{}\n{}{}",
+        "#".repeat(22),
+        format!("#{}#\n", ".".repeat(20)).repeat(8),
+        "#".repeat(22)
+    ));
+    // Cover moves along x and along y.
+    let lanes = |kind: PlannerKind, columns: Option<bool>| {
+        let mut grid = new_grid();
+        map.to_grid(&mut *grid).unwrap();
+        let mut p = new_planner(kind);
+        let start = Cell::new(1, 1);
+        p.start(&mut *grid, start).unwrap();
+        if let Some(c) = columns {
+            p.sweep_columns(c);
+        }
+        let (mut ck, mut at) = (Box::new(Checker::<HOST_WORDS>::new()), start);
+        ck.start(&*grid, start).unwrap();
+        let (mut along_x, mut along_y) = (0, 0);
+        loop {
+            let w = match p.step(&mut *grid, u32::MAX).unwrap() {
+                Step::Move(w) => w,
+                Step::Pending => continue,
+                Step::Done => break,
+            };
+            ck.push(&*grid, w.to, w.kind, w.starts_segment).unwrap();
+            if w.kind == SegmentKind::Cover {
+                along_x += (w.to.x as i32 - at.x as i32).abs();
+                along_y += (w.to.y as i32 - at.y as i32).abs();
+            }
+            at = w.to;
+        }
+        assert_eq!(ck.finish(&*grid).missed_cells, 0, "{}", kind.name());
+        (along_x, along_y)
+    };
+    let (x, y) = lanes(PlannerKind::BOha, None);
+    assert!(x > 5 * y, "rows by aspect: {x} {y}");
+    let (x, y) = lanes(PlannerKind::BOha, Some(true));
+    assert!(y > 3 * x, "columns when asked: {x} {y}");
+    let (x, y) = lanes(PlannerKind::BOha, Some(false));
+    assert!(x > 5 * y, "rows when asked: {x} {y}");
+    assert_eq!(
+        lanes(PlannerKind::BaStar, Some(true)),
+        lanes(PlannerKind::BaStar, None),
+        "a fixed priority is kept"
+    );
+}

@@ -316,6 +316,17 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
         Ok(())
     }
 
+    /// Sweeps columns (`true`) or rows from here on, in place of the
+    /// whole grid's aspect ratio, for planners whose priority follows it
+    /// (B-OHA* §2.1 applied to one room by the mission; call it after
+    /// `start`, which sets the grid's). Other planners keep their fixed
+    /// order.
+    pub fn sweep_columns(&mut self, columns: bool) {
+        if self.kind.rules().priority == Priority::ByAspect {
+            self.priority = b_oha::sweep_priority(columns);
+        }
+    }
+
     /// Runs to completion, calling `emit` for every waypoint (the batch
     /// planner of the CLI and the tests).
     pub fn run<const GW: usize>(

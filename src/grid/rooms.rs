@@ -91,6 +91,41 @@ pub fn label_at<const NW: usize>(grid: &Grid<NW>, labels: &[u8], x: i32, y: i32)
         .unwrap_or(NONE)
 }
 
+/// How many lanes room `id` takes swept in rows and in columns,
+/// `(rows, columns)`: its maximal runs of cells along x and along y. Where
+/// `joined(a, b)` says two neighbouring cells of a run are not (a thin
+/// wall between them, which the planning cells do not show, so the
+/// planner's lane runs into it and needs a detour around), the run counts
+/// `wall_lanes` lanes more.
+/// The mission sweeps a room the way with fewer lanes, so fewer turns:
+/// its long axis, measured on the room's own cells rather than its
+/// bounding box, which an L-shaped room or a hall's alcove would mislead.
+pub fn lanes<const NW: usize>(
+    grid: &Grid<NW>,
+    labels: &[u8],
+    id: u8,
+    wall_lanes: u32,
+    mut joined: impl FnMut((i32, i32), (i32, i32)) -> bool,
+) -> (u32, u32) {
+    let (w, h) = (grid.width() as i32, grid.height() as i32);
+    let is = |x: i32, y: i32| id != NONE && label_at(grid, labels, x, y) == id;
+    let (mut rows, mut cols) = (0, 0);
+    for y in 0..h {
+        for x in 0..w {
+            if is(x, y) {
+                let mut lane = |before: (i32, i32)| match is(before.0, before.1) {
+                    false => 1,
+                    true if joined(before, (x, y)) => 0,
+                    true => wall_lanes,
+                };
+                rows += lane((x - 1, y));
+                cols += lane((x, y - 1));
+            }
+        }
+    }
+    (rows, cols)
+}
+
 /// Splits the free cells of `grid` into rooms: `labels[i]` becomes the
 /// room id of cell `i` ([`NONE`] for blocked cells). `queue` holds a
 /// wavefront (a few grid perimeters are plenty).

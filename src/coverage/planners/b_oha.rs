@@ -39,7 +39,13 @@ pub const RULES: Rules = Rules {
 
 /// Move priority from the map's aspect ratio.
 pub fn priority<const GW: usize>(grid: &Grid<GW>) -> [(i32, i32); 4] {
-    if grid.height() > grid.width() {
+    sweep_priority(grid.height() > grid.width())
+}
+
+/// The move priority that sweeps columns (N, S, E, W) or rows (W, E, S,
+/// N).
+pub fn sweep_priority(columns: bool) -> [(i32, i32); 4] {
+    if columns {
         [N_, S_, E_, W_]
     } else {
         [W_, E_, S_, N_]
