@@ -50,7 +50,7 @@ proptest! {
         let dist = dijkstra(&g, s);
         let opt = dist[(t.y as u32 * g.width() + t.x as u32) as usize];
         let mut st = new_state();
-        for algo in [Algo::AStar, Algo::Oha, Algo::Theta] {
+        for algo in [Algo::AStar, Algo::Oha, Algo::Theta, Algo::AStarOctile] {
             match run(&mut st, &g, s, &[t], algo) {
                 Ok((stats, path)) => {
                     prop_assert!(opt.is_finite(), "{algo:?} found a path where none exists");
@@ -69,8 +69,8 @@ proptest! {
                     } else {
                         let len = check_grid_path(&g, &path);
                         prop_assert!((stats.cost as f64 / 5741.0 - len).abs() < 1e-6 * (1.0 + len));
-                        if algo == Algo::AStar {
-                            prop_assert!((len - opt).abs() < 1e-6, "A* {len} vs optimum {opt}");
+                        if algo == Algo::AStar || algo == Algo::AStarOctile {
+                            prop_assert!((len - opt).abs() < 1e-6, "{algo:?} {len} vs optimum {opt}");
                         } else {
                             prop_assert!(len >= opt - 1e-6);
                         }
@@ -105,14 +105,16 @@ proptest! {
         let dist = dijkstra(&g, s);
         let best = goals.iter().map(|t| dist[(t.y as u32 * g.width() + t.x as u32) as usize]).fold(f64::INFINITY, f64::min);
         let mut st = new_state();
-        match run(&mut st, &g, s, &goals, Algo::AStar) {
-            Ok((stats, path)) => {
-                prop_assert!(goals.contains(&stats.goal));
-                let len = check_grid_path(&g, &path);
-                prop_assert!((len - best).abs() < 1e-6, "multi-goal {len} vs nearest {best}");
+        for algo in [Algo::AStar, Algo::AStarOctile] {
+            match run(&mut st, &g, s, &goals, algo) {
+                Ok((stats, path)) => {
+                    prop_assert!(goals.contains(&stats.goal));
+                    let len = check_grid_path(&g, &path);
+                    prop_assert!((len - best).abs() < 1e-6, "{algo:?} multi-goal {len} vs nearest {best}");
+                }
+                Err(SearchError::NoPath) => prop_assert!(best.is_infinite()),
+                Err(e) => prop_assert!(false, "unexpected {e:?}"),
             }
-            Err(SearchError::NoPath) => prop_assert!(best.is_infinite()),
-            Err(e) => prop_assert!(false, "unexpected {e:?}"),
         }
         // OHA* and Theta* also stop at one of the goals.
         for algo in [Algo::Oha, Algo::Theta] {
@@ -317,4 +319,54 @@ fn ascii_maps_accept_crlf_and_blank_lines() {
         a.load_ascii("..\n.x\n"),
         Err(robovac::grid::GridError::BadChar { row: 1, col: 1 })
     ));
+}
+
+proptest! {
+    /// The 4-ary open list gives its entries back in the strict order
+    /// (smallest f, then largest g, then smallest index), whatever the
+    /// pushes and pops interleaved: the order a sorted list gives.
+    #[test]
+    fn open_list_pops_in_order(ops in proptest::collection::vec((any::<bool>(), 0u32..50, 0u32..50, 0u32..20), 1..400)) {
+        use robovac::search::open_list::{Entry, OpenList};
+        let mut heap: OpenList<512> = OpenList::new();
+        let mut model: Vec<(u32, u32, u32)> = Vec::new();
+        let key = |e: &(u32, u32, u32)| (e.0, u32::MAX - e.1, e.2);
+        for (push, f, g, idx) in ops {
+            if push {
+                heap.push(Entry { f, g, idx }).unwrap();
+                model.push((f, g, idx));
+            } else {
+                model.sort_by_key(key);
+                let want = (!model.is_empty()).then(|| model.remove(0));
+                let got = heap.pop().map(|e| (e.f, e.g, e.idx));
+                prop_assert_eq!(got, want);
+            }
+            prop_assert_eq!(heap.len(), model.len());
+        }
+    }
+}
+
+/// The octile heuristic expands no more nodes than the Euclidean one on
+/// the same queries (it is tighter) and finds the same costs.
+#[test]
+fn octile_expands_fewer_nodes_than_euclidean() {
+    let mut st = new_state();
+    let (mut euclid, mut octile) = (0u64, 0u64);
+    for seed in 0..40 {
+        let g = random_grid(39, 31, 20, seed);
+        let cells = free_cells(&g);
+        let (s, t) = (cells[0], cells[cells.len() - 1]);
+        let a = run(&mut st, &g, s, &[t], Algo::AStar);
+        let b = run(&mut st, &g, s, &[t], Algo::AStarOctile);
+        match (a, b) {
+            (Ok((sa, _)), Ok((sb, _))) => {
+                assert_eq!(sa.cost, sb.cost, "seed {seed}");
+                euclid += sa.nodes_expanded as u64;
+                octile += sb.nodes_expanded as u64;
+            }
+            (Err(SearchError::NoPath), Err(SearchError::NoPath)) => {}
+            other => panic!("seed {seed}: {other:?}"),
+        }
+    }
+    assert!(octile < euclid, "octile {octile} vs Euclidean {euclid}");
 }

@@ -120,7 +120,59 @@ fn movingai_astar_is_optimal() {
         );
         let t = json(&["scen", &scen, "--map", &map, "--algo", "theta", "--json"]);
         assert_eq!(t["solved"], t["problems"]);
+        // A* with the octile heuristic: optimal too, fewer nodes.
+        let q = json(&[
+            "scen",
+            &scen,
+            "--map",
+            &map,
+            "--algo",
+            "astar-octile",
+            "--json",
+        ]);
+        assert_eq!(q["optimal_mismatches"], 0, "{m}: {q}");
+        assert_eq!(q["solved"], q["problems"]);
+        assert!(
+            q["mean_nodes_expanded"].as_f64().unwrap()
+                <= j["mean_nodes_expanded"].as_f64().unwrap()
+        );
     }
+}
+
+/// `bench peers`: ours and the `pathfinding` crate's A* on the same
+/// queries, every engine optimal on every one, and the ratio printed.
+#[test]
+fn bench_peers_runs_both_engines_on_the_same_queries() {
+    let j = json(&[
+        "bench",
+        "peers",
+        "--scen",
+        "maps/movingai/maze49.map.scen",
+        "--map",
+        "maps/movingai/maze49.map",
+        "--json",
+    ]);
+    let engines = j["engines"].as_array().unwrap();
+    assert_eq!(engines.len(), 3);
+    for e in engines {
+        assert_eq!(e["solved"], j["problems"], "{e}");
+        assert_eq!(e["optimal_mismatches"], 0, "{e}");
+        assert!(e["median_us"].as_f64().unwrap() > 0.0);
+    }
+    assert!(j["ratio"].as_f64().unwrap() > 0.0);
+    let out = bin()
+        .args([
+            "bench",
+            "peers",
+            "--scen",
+            "nope.scen",
+            "--map",
+            "maps/movingai/maze49.map",
+        ])
+        .current_dir(repo())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
 }
 
 #[test]

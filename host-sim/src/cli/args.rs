@@ -21,7 +21,10 @@ pub enum ModeArg {
 
 #[derive(Clone, Copy, ValueEnum)]
 pub enum AlgoArg {
+    /// A* with the Euclidean heuristic (seed 000's Table 1).
     Astar,
+    /// A* with the integer octile heuristic (optimal, fastest).
+    AstarOctile,
     Oha,
     Theta,
 }
@@ -30,6 +33,7 @@ impl From<AlgoArg> for Algo {
     fn from(a: AlgoArg) -> Self {
         match a {
             AlgoArg::Astar => Algo::AStar,
+            AlgoArg::AstarOctile => Algo::AStarOctile,
             AlgoArg::Oha => Algo::Oha,
             AlgoArg::Theta => Algo::Theta,
         }

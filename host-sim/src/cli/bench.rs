@@ -64,6 +64,17 @@ pub enum BenchCmd {
         #[arg(long)]
         no_map_zones: bool,
     },
+    /// Our A* against the `pathfinding` crate's, on the same MovingAI queries in one run (medians and their ratio).
+    Peers {
+        /// The .scen file.
+        #[arg(long)]
+        scen: PathBuf,
+        #[command(flatten)]
+        map: super::args::MapArgs,
+        /// Print one JSON object.
+        #[arg(long)]
+        json: bool,
+    },
     /// Wheel speed step response to 0.3 m/s (rise time, overshoot, steady-state error).
     WheelStep {
         #[arg(long, default_value_t = 1)]
@@ -136,6 +147,7 @@ pub fn run(which: BenchCmd) -> Result<(), String> {
             };
             super::bench_missions::run(runs, seed, max_time, threads, json.as_deref(), &sel)
         }
+        BenchCmd::Peers { scen, map, json } => super::bench_peers::run(&scen, &map, json),
         BenchCmd::WheelStep { seed } => cmd_wheel_step(seed),
     }
 }

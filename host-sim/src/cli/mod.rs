@@ -5,6 +5,7 @@
 pub mod args;
 pub mod bench;
 pub mod bench_missions;
+pub mod bench_peers;
 pub mod demo;
 pub mod drive;
 pub mod lidar;

@@ -119,6 +119,7 @@ pub fn algo_name(a: Algo) -> &'static str {
         Algo::AStar => "astar",
         Algo::Oha => "oha",
         Algo::Theta => "theta",
+        Algo::AStarOctile => "astar-octile",
     }
 }
 

@@ -11,6 +11,7 @@ pub mod mission;
 pub mod mission_debug;
 pub mod mission_map;
 pub mod parts;
+pub mod peers;
 pub mod pil;
 pub mod plan;
 pub mod power;
