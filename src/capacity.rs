@@ -241,4 +241,4 @@ pub const FW_MISSION_BYTES: usize = FW_PLANNER_BYTES
     + FW_FINE_PATH * 4
     + FW_PLAN_CELLS
     + FW_EXECUTIVE_BYTES;
-const _: () = assert!(FW_MISSION_BYTES <= 118_633);
+const _: () = assert!(FW_MISSION_BYTES <= 118_641);

@@ -50,7 +50,7 @@ proptest! {
         let dist = dijkstra(&g, s);
         let opt = dist[(t.y as u32 * g.width() + t.x as u32) as usize];
         let mut st = new_state();
-        for algo in [Algo::AStar, Algo::Oha, Algo::Theta, Algo::AStarOctile] {
+        for algo in [Algo::AStar, Algo::Oha, Algo::Theta, Algo::AStarOctile, Algo::Bfs, Algo::Dfs] {
             match run(&mut st, &g, s, &[t], algo) {
                 Ok((stats, path)) => {
                     prop_assert!(opt.is_finite(), "{algo:?} found a path where none exists");
@@ -369,4 +369,58 @@ fn octile_expands_fewer_nodes_than_euclidean() {
         }
     }
     assert!(octile < euclid, "octile {octile} vs Euclidean {euclid}");
+}
+
+/// Fewest moves from `s` to every cell (8-connected, no corner cutting),
+/// by an independent breadth-first search.
+fn fewest_moves(g: &TGrid, s: Cell) -> Vec<Option<u32>> {
+    let (w, h) = (g.width() as i32, g.height() as i32);
+    let mut d: Vec<Option<u32>> = vec![None; (w * h) as usize];
+    let mut q = std::collections::VecDeque::new();
+    d[(s.y as i32 * w + s.x as i32) as usize] = Some(0);
+    q.push_back((s.x as i32, s.y as i32));
+    while let Some((x, y)) = q.pop_front() {
+        let here = d[(y * w + x) as usize].unwrap();
+        for (dx, dy) in robovac::search::NEIGHBOURS {
+            let (nx, ny) = (x + dx, y + dy);
+            let diagonal_ok = dx == 0 || dy == 0 || (free(g, x + dx, y) && free(g, x, y + dy));
+            if free(g, nx, ny) && diagonal_ok && d[(ny * w + nx) as usize].is_none() {
+                d[(ny * w + nx) as usize] = Some(here + 1);
+                q.push_back((nx, ny));
+            }
+        }
+    }
+    d
+}
+
+proptest! {
+    /// Breadth-first search finds a path of the fewest moves; depth-first
+    /// search finds a valid one; both exactly when one exists (the path
+    /// checks themselves are in `searches_agree_with_dijkstra`).
+    #[test]
+    fn bfs_takes_fewest_moves_and_dfs_finds_a_path(seed in any::<u64>(), w in 2u32..30, h in 2u32..30, density in 0u32..45, pick in any::<(u32, u32)>()) {
+        let g = random_grid(w, h, density, seed);
+        let cells = free_cells(&g);
+        prop_assume!(cells.len() >= 2);
+        let s = cells[pick.0 as usize % cells.len()];
+        let t = cells[pick.1 as usize % cells.len()];
+        let want = fewest_moves(&g, s)[(t.y as u32 * g.width() + t.x as u32) as usize];
+        let mut st = new_state();
+        match (run(&mut st, &g, s, &[t], Algo::Bfs), want) {
+            (Ok((_, path)), Some(m)) => {
+                check_grid_path(&g, &path);
+                prop_assert_eq!(path.len() as u32 - 1, m);
+            }
+            (Err(SearchError::NoPath), None) => {}
+            (r, m) => prop_assert!(false, "BFS {r:?}, fewest moves {m:?}"),
+        }
+        match (run(&mut st, &g, s, &[t], Algo::Dfs), want) {
+            (Ok((_, path)), Some(m)) => {
+                check_grid_path(&g, &path);
+                prop_assert!(path.len() as u32 > m, "a path has at least the fewest moves");
+            }
+            (Err(SearchError::NoPath), None) => {}
+            (r, m) => prop_assert!(false, "DFS {r:?}, fewest moves {m:?}"),
+        }
+    }
 }

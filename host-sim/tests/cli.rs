@@ -139,6 +139,21 @@ fn movingai_astar_is_optimal() {
     }
 }
 
+/// The baselines: breadth-first search solves every problem with paths
+/// never shorter than the optimum; depth-first search solves every one.
+#[test]
+fn movingai_bfs_and_dfs_baselines() {
+    for m in ["rooms64", "maze49"] {
+        let scen = format!("maps/movingai/{m}.map.scen");
+        let map = format!("maps/movingai/{m}.map");
+        for algo in ["bfs", "dfs"] {
+            let j = json(&["scen", &scen, "--map", &map, "--algo", algo, "--json"]);
+            assert_eq!(j["solved"], j["problems"], "{m} {algo}");
+            assert!(j["mean_cost_ratio"].as_f64().unwrap() >= 1.0 - 1e-9, "{m} {algo}: {j}");
+        }
+    }
+}
+
 /// `bench peers`: ours and the `pathfinding` crate's A* on the same
 /// queries, every engine optimal on every one, and the ratio printed.
 #[test]

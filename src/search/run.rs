@@ -2,7 +2,10 @@
 //!
 //! One loop serves every algorithm; they differ only in the heuristic
 //! ([`super::heuristics`]) and, for Theta*, in the parent update
-//! ([`super::theta`]). The search is 8-connected with octile step costs
+//! ([`super::theta`]). Breadth-first and depth-first search (seed 004's
+//! baselines) run in it too: their key is the push count, rising for BFS
+//! (first in, first out) and falling for DFS (last in, first out), and a
+//! cell keeps the parent that discovered it. The search is 8-connected with octile step costs
 //! and **no corner cutting**: a diagonal step needs both orthogonal
 //! neighbours free. It is multi-goal: it stops at the first goal it closes,
 //! with the heuristic taken as the minimum over the goals (ALGORITHMS.md §1,
@@ -80,14 +83,15 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
         self.width = grid.width();
         self.height = grid.height();
         self.nodes = 0;
+        self.pushes = 0;
         self.seen.clear_prefix(cells);
         self.closed.clear_prefix(cells);
         self.open.clear();
         self.set_node(si, 0, si as u32);
-        let h = self.heuristic(start);
+        let f = self.key(start, 0);
         self.open
             .push(Entry {
-                f: h,
+                f,
                 g: 0,
                 idx: si as u32,
             })
@@ -185,12 +189,14 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
                 Algo::Theta => theta::relax(self, grid, i, gs, (nx, ny), step),
                 _ => (gs.saturating_add(step), i as u32),
             };
-            if !self.seen.get(ni) || cand < self.g_at(ni) {
+            let blind = matches!(self.algo, Algo::Bfs | Algo::Dfs);
+            let better = !self.seen.get(ni) || (!blind && cand < self.g_at(ni));
+            if better {
                 self.set_node(ni, cand, par);
-                let h = self.heuristic(Cell::new(nx as u16, ny as u16));
+                let f = self.key(Cell::new(nx as u16, ny as u16), cand);
                 self.open
                     .push(Entry {
-                        f: cand.saturating_add(h),
+                        f,
                         g: cand,
                         idx: ni as u32,
                     })
@@ -200,12 +206,19 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
         Ok(())
     }
 
+    /// The open list's key of cell `s` reached at cost `g`: g + h for the
+    /// best-first searches, the push count for BFS and DFS.
     #[inline]
-    fn heuristic(&self, s: Cell) -> u32 {
-        match self.algo {
+    fn key(&mut self, s: Cell, g: u32) -> u32 {
+        let n = self.pushes;
+        self.pushes = n.saturating_add(1);
+        let h = match self.algo {
             Algo::AStar | Algo::Theta => heuristics::euclidean(s, self.goals()),
             Algo::Oha => heuristics::oha(s, self.start, self.goals()),
             Algo::AStarOctile => heuristics::octile_nearest(s, self.goals()),
-        }
+            Algo::Bfs => return n,
+            Algo::Dfs => return u32::MAX - n,
+        };
+        g.saturating_add(h)
     }
 }

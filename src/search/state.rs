@@ -30,6 +30,14 @@ pub enum Algo {
     /// far tighter than the Euclidean one, with no square root. The
     /// Euclidean [`Algo::AStar`] stays for seed 000's Table 1 protocol.
     AStarOctile,
+    /// Breadth-first search (seed 004's baseline): cells in the order they
+    /// are discovered, each keeping its first parent. The path has the
+    /// fewest moves, not the least cost (a diagonal counts as one move).
+    Bfs,
+    /// Depth-first search (seed 004's baseline): the newest discovered
+    /// cell first, each keeping its first parent. It finds a path whenever
+    /// one exists, usually a long one.
+    Dfs,
 }
 
 /// Why a search failed.
@@ -168,6 +176,9 @@ pub struct SearchState<const N: usize, const NW: usize, const OPEN: usize> {
     /// with the value its own `begin` left, to know whether its query was
     /// overwritten meanwhile.
     pub(super) query: u32,
+    /// Pushes since `begin`: the order key of [`Algo::Bfs`] and
+    /// [`Algo::Dfs`].
+    pub(super) pushes: u32,
 }
 
 impl<const N: usize, const NW: usize, const OPEN: usize> Default for SearchState<N, NW, OPEN> {
@@ -199,6 +210,7 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
             height: 0,
             nodes: 0,
             query: 0,
+            pushes: 0,
         }
     }
     /// The goals of the current query.

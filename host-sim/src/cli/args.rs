@@ -25,6 +25,10 @@ pub enum AlgoArg {
     Astar,
     /// A* with the integer octile heuristic (optimal, fastest).
     AstarOctile,
+    /// Breadth-first search (fewest moves; a baseline).
+    Bfs,
+    /// Depth-first search (some path; a baseline).
+    Dfs,
     Oha,
     Theta,
 }
@@ -34,6 +38,8 @@ impl From<AlgoArg> for Algo {
         match a {
             AlgoArg::Astar => Algo::AStar,
             AlgoArg::AstarOctile => Algo::AStarOctile,
+            AlgoArg::Bfs => Algo::Bfs,
+            AlgoArg::Dfs => Algo::Dfs,
             AlgoArg::Oha => Algo::Oha,
             AlgoArg::Theta => Algo::Theta,
         }

@@ -120,6 +120,8 @@ pub fn algo_name(a: Algo) -> &'static str {
         Algo::Oha => "oha",
         Algo::Theta => "theta",
         Algo::AStarOctile => "astar-octile",
+        Algo::Bfs => "bfs",
+        Algo::Dfs => "dfs",
     }
 }
 
