@@ -219,7 +219,7 @@ sized_impl!([] {
         };
         m.counters.detours += 1;
         let state = self.p.planner.search_state_mut();
-        match self.p.search.begin(state, self.p.fine, a, &[b], Algo::AStarOctile) {
+        match self.p.search.begin(state, self.p.fine, a, &[b], Algo::AStar) {
             Ok(()) => {}
             Err(SearchError::OutOfWindow) if self.begin_route(from, to, cover) => return,
             Err(_) => {

@@ -72,7 +72,7 @@ sized_impl!([] {
             return;
         }
         let state = self.p.planner.search_state_mut();
-        match self.p.search.begin(state, self.p.fine, a, &[b], Algo::AStarOctile) {
+        match self.p.search.begin(state, self.p.fine, a, &[b], Algo::AStar) {
             Ok(()) => {}
             Err(SearchError::OutOfWindow) if self.begin_route(from, home, false) => {
                 self.m.phase = Phase::Return;

@@ -74,7 +74,7 @@ sized_impl!([] {
         let budget = self.m.cfg.node_budget;
         let state = self.p.planner.search_state_mut();
         let search = &mut *self.p.search;
-        if search.begin_blocks(state, self.p.fine, a, b, Algo::AStarOctile).is_err()
+        if search.begin_blocks(state, self.p.fine, a, b, Algo::AStar).is_err()
             || !matches!(search.resume(state, budget), Ok(Progress::Found(_)))
         {
             return false;

@@ -345,7 +345,7 @@ impl EdgePass {
             fine,
             self.last,
             goals.get(..n).unwrap_or(&[]),
-            Algo::AStarOctile,
+            Algo::AStar,
         ) {
             self.phase = Phase::Walk;
             return Err(e);
