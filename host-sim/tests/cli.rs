@@ -149,7 +149,10 @@ fn movingai_bfs_and_dfs_baselines() {
         for algo in ["bfs", "dfs"] {
             let j = json(&["scen", &scen, "--map", &map, "--algo", algo, "--json"]);
             assert_eq!(j["solved"], j["problems"], "{m} {algo}");
-            assert!(j["mean_cost_ratio"].as_f64().unwrap() >= 1.0 - 1e-9, "{m} {algo}: {j}");
+            assert!(
+                j["mean_cost_ratio"].as_f64().unwrap() >= 1.0 - 1e-9,
+                "{m} {algo}: {j}"
+            );
         }
     }
 }
