@@ -125,6 +125,21 @@ pub fn algo_name(a: Algo) -> &'static str {
     }
 }
 
+/// Problem `k` (from 0) was made for a map of `map`'s size.
+pub fn check_size(map: &MapData, k: usize, p: &Problem) -> Result<(), MapError> {
+    if p.width == map.width && p.height == map.height {
+        return Ok(());
+    }
+    Err(MapError(format!(
+        "problem {}: scenario says {}x{}, map is {}x{}",
+        k + 1,
+        p.width,
+        p.height,
+        map.width,
+        map.height
+    )))
+}
+
 /// Runs every problem on `map` with `algo`.
 pub fn run_scen(map: &MapData, problems: &[Problem], algo: Algo) -> Result<ScenReport, MapError> {
     let mut grid = new_grid();
@@ -139,16 +154,7 @@ pub fn run_scen(map: &MapData, problems: &[Problem], algo: Algo) -> Result<ScenR
     let (mut ratios, mut nodes, mut times, mut pruned) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for (k, p) in problems.iter().enumerate() {
-        if p.width != map.width || p.height != map.height {
-            return Err(MapError(format!(
-                "problem {}: scenario says {}x{}, map is {}x{}",
-                k + 1,
-                p.width,
-                p.height,
-                map.width,
-                map.height
-            )));
-        }
+        check_size(map, k, p)?;
         let t0 = Instant::now();
         let res = state.search(&*grid, p.start, &[p.goal], algo);
         let n = res.and_then(|_| state.write_path(&mut path));

@@ -19,7 +19,7 @@ use robovac::{Algo, Cell};
 
 use crate::capacity::{new_grid, new_search, HostGrid};
 use crate::io::maps::{MapData, MapError};
-use crate::io::scen::Problem;
+use crate::io::scen::{check_size, Problem};
 use crate::report::metrics::{median, polyline_length};
 
 /// One engine's figures over a scenario.
@@ -102,16 +102,7 @@ pub fn run_peers(map: &MapData, problems: &[Problem]) -> Result<PeersReport, Map
         .collect();
     let mut times: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
     for (k, p) in problems.iter().enumerate() {
-        if p.width != map.width || p.height != map.height {
-            return Err(MapError(format!(
-                "problem {}: scenario says {}x{}, map is {}x{}",
-                k + 1,
-                p.width,
-                p.height,
-                map.width,
-                map.height
-            )));
-        }
+        check_size(map, k, p)?;
         for (e, algo) in [Algo::AStarOctile, Algo::AStar].into_iter().enumerate() {
             let t0 = Instant::now();
             let n = state
