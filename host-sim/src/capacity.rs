@@ -44,9 +44,10 @@ pub fn new_grid() -> Box<HostGrid> {
 pub fn new_search() -> Box<HostSearch> {
     let b = Box::<HostSearch>::new_zeroed();
     // SAFETY: `SearchState` consists only of integers, arrays of integers,
-    // a `#[repr(u8)]` enum whose discriminant 0 is a variant, and structs of
-    // those; its documentation guarantees that all-zero bytes are a valid
-    // idle state equal to `SearchState::new()`.
+    // `#[repr(u8)]` enums whose discriminant 0 is a variant (the algorithm,
+    // the open list's order), and structs of those; its documentation
+    // guarantees that all-zero bytes are a valid idle state that behaves
+    // as `SearchState::new()`.
     unsafe { b.assume_init() }
 }
 

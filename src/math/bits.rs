@@ -38,6 +38,17 @@ impl<const NW: usize> Bits<NW> {
         }
     }
 
+    /// Bits `i`, `i + 1` and `i + 2` as bits 0, 1 and 2 of the result (one
+    /// or two word reads; bits beyond the capacity read `false`). The
+    /// search reads a cell's three neighbours in a row with it.
+    #[inline]
+    pub fn get3(&self, i: usize) -> u32 {
+        let k = i >> 5;
+        let lo = self.words.get(k).copied().unwrap_or(0) as u64;
+        let hi = self.words.get(k + 1).copied().unwrap_or(0) as u64;
+        (((hi << 32 | lo) >> (i & 31)) & 0b111) as u32
+    }
+
     /// Sets bit `i` to `v`. Returns `false` (and changes nothing) when `i` is
     /// beyond the capacity.
     #[inline]

@@ -3,11 +3,13 @@
 //!
 //! The files point one way, toward the leaves: [`state`] (the state, its
 //! errors and statistics: a leaf), [`heuristics`], [`theta`] (Theta*'s
-//! parent update), [`open_list`] and [`prune`] serve [`run`], the loop.
+//! parent update), [`open_list`] (with its radix order, [`radix`]) and
+//! [`prune`] serve [`run`], the loop.
 
 pub mod heuristics;
 pub mod open_list;
 pub mod prune;
+pub mod radix;
 pub mod run;
 pub mod state;
 pub mod theta;

@@ -1,4 +1,6 @@
-//! The open list: an array-based 4-ary min-heap of fixed capacity.
+//! The open list: an array-based 4-ary min-heap of fixed capacity, or, for
+//! searches whose keys never fall below the last one popped, a radix queue
+//! in the same array ([`super::radix`], [`Order::Monotone`]).
 //!
 //! **Why 4-ary** (issue 13, search speed): a pop sifts down half as many
 //! levels as in a binary heap, and the four children of a node sit side by
@@ -64,11 +66,29 @@ const ARITY: usize = 4;
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Full;
 
-/// A binary min-heap of at most `CAP` entries.
+/// How an [`OpenList`] orders its entries; chosen by [`OpenList::clear_for`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[repr(u8)]
+pub enum Order {
+    /// The 4-ary heap: the strict total order of [`Entry`] (smaller f,
+    /// then larger g, then smaller index). For any keys. Discriminant 0:
+    /// an all-zero open list is an empty heap.
+    Strict = 0,
+    /// The radix queue ([`super::radix`]): smaller f first, equal f last in
+    /// first out, g not kept. Only for keys that never fall below the last
+    /// key popped (a consistent heuristic); a smaller key is raised to it.
+    Monotone,
+}
+
+/// An open list of at most `CAP` entries: a 4-ary min-heap, or a radix
+/// queue over the same array ([`Order`]).
 pub struct OpenList<const CAP: usize> {
-    len: usize,
-    items: [Entry; CAP],
-    peak: usize,
+    pub(super) len: usize,
+    pub(super) items: [Entry; CAP],
+    pub(super) peak: usize,
+    pub(super) order: Order,
+    pub(super) radix: super::radix::Buckets,
 }
 
 impl<const CAP: usize> Default for OpenList<CAP> {
@@ -84,13 +104,23 @@ impl<const CAP: usize> OpenList<CAP> {
             len: 0,
             items: [Entry { f: 0, g: 0, idx: 0 }; CAP],
             peak: 0,
+            order: Order::Strict,
+            radix: super::radix::Buckets::new(),
         }
     }
 
-    /// Removes every entry (and resets the peak).
+    /// Removes every entry (and resets the peak); the heap order.
     pub fn clear(&mut self) {
+        self.clear_for(Order::Strict);
+    }
+
+    /// Removes every entry (and resets the peak) and takes `order` until
+    /// the next clear.
+    pub fn clear_for(&mut self, order: Order) {
         self.len = 0;
         self.peak = 0;
+        self.order = order;
+        self.radix = super::radix::Buckets::new();
     }
 
     /// Number of entries.
@@ -109,7 +139,25 @@ impl<const CAP: usize> OpenList<CAP> {
     }
 
     /// Inserts an entry, or returns [`Full`].
+    #[inline]
     pub fn push(&mut self, e: Entry) -> Result<(), Full> {
+        match self.order {
+            Order::Strict => self.heap_push(e),
+            Order::Monotone => self.radix_push(e.f, e.idx),
+        }
+    }
+
+    /// Removes and returns the first entry. In [`Order::Monotone`] its `g`
+    /// reads 0 (the radix queue does not keep it).
+    #[inline]
+    pub fn pop(&mut self) -> Option<Entry> {
+        match self.order {
+            Order::Strict => self.heap_pop(),
+            Order::Monotone => self.radix_pop(),
+        }
+    }
+
+    fn heap_push(&mut self, e: Entry) -> Result<(), Full> {
         if self.len >= CAP {
             return Err(Full);
         }
@@ -135,8 +183,7 @@ impl<const CAP: usize> OpenList<CAP> {
         Ok(())
     }
 
-    /// Removes and returns the first entry.
-    pub fn pop(&mut self) -> Option<Entry> {
+    fn heap_pop(&mut self) -> Option<Entry> {
         if self.len == 0 {
             return None;
         }

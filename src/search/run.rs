@@ -17,7 +17,7 @@
 //! [`SearchState::search`] runs a query to completion.
 
 use super::heuristics;
-use super::open_list::Entry;
+use super::open_list::{Entry, Order};
 use super::state::{
     Algo, Progress, SearchError, SearchState, SearchStats, FOUND, IDLE, MAX_GOALS, NEIGHBOURS,
     RUNNING,
@@ -25,6 +25,7 @@ use super::state::{
 use super::theta;
 use crate::grid::{Cell, Grid};
 use crate::math::cost::{COST_DIAGONAL, COST_PER_CELL};
+use crate::math::divide::RowDivider;
 
 impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN> {
     /// Runs a whole query: the path from `start` to the nearest-found of
@@ -82,11 +83,12 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
         self.algo = algo;
         self.width = grid.width();
         self.height = grid.height();
+        self.rows = RowDivider::new(grid.width() as u16);
         self.nodes = 0;
         self.pushes = 0;
         self.seen.clear_prefix(cells);
         self.closed.clear_prefix(cells);
-        self.open.clear();
+        self.open.clear_for(open_order(algo));
         self.set_node(si, 0, si as u32);
         let f = self.key(start, 0);
         self.open
@@ -129,7 +131,7 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
             self.closed.put(i, true);
             self.nodes = self.nodes.saturating_add(1);
             left -= 1;
-            let cell = grid.cell_at(i);
+            let cell = self.cell_of(i);
             if self.goals().contains(&cell) {
                 self.phase = FOUND;
                 self.found = e.idx;
@@ -146,9 +148,9 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
     }
 
     /// Relaxes the neighbours of cell `i` = `cell`. A tight loop (issue
-    /// 13, search speed): the eight neighbours' free bits are read once
-    /// into a mask, the diagonals allowed by the no-corner-cutting rule
-    /// come out of it by shifts, and only the cells left are visited.
+    /// 13, search speed): the moves out of the cell come as one mask
+    /// ([`Grid::moves`]: three rows of three bits, the no-corner-cutting
+    /// rule by shifts), and only the cells left are visited.
     fn expand<const GW: usize>(
         &mut self,
         grid: &Grid<GW>,
@@ -157,26 +159,18 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
     ) -> Result<(), SearchError> {
         let (x, y) = cell.xy();
         let gs = self.g_at(i);
-        let (w, h) = (self.width as i32, self.height as i32);
-        let mut free = 0u32;
-        for (k, &(dx, dy)) in NEIGHBOURS.iter().enumerate() {
-            let (nx, ny) = (x + dx, y + dy);
-            let inside = nx >= 0 && ny >= 0 && nx < w && ny < h;
-            if inside && !grid.blocked_at((ny * w + nx) as usize) {
-                free |= 1 << k;
-            }
-        }
-        // Straight moves are the even k; a diagonal k needs k - 1 and
-        // k + 1 (mod 8) free.
-        let straight = free & 0b0101_0101;
-        let corners = (straight << 1) & ((straight >> 1) | (straight << 7));
-        let mut moves = straight | (free & corners & 0b1010_1010);
+        let w = self.width as i32;
+        let mut moves = grid.moves(x, y);
+        let theta = self.algo == Algo::Theta;
+        let blind = matches!(self.algo, Algo::Bfs | Algo::Dfs);
+        // Index steps to the neighbours, in the order of NEIGHBOURS.
+        let steps = [1, 1 - w, -w, -1 - w, -1, w - 1, w, w + 1];
         while moves != 0 {
             let k = moves.trailing_zeros() as usize;
             moves &= moves - 1;
             let (dx, dy) = NEIGHBOURS.get(k).copied().unwrap_or((0, 0));
-            let (nx, ny) = (x + dx, y + dy);
-            let ni = (ny * w + nx) as usize;
+            // Inside the map (the mask says so): the index is i + dy·w + dx.
+            let ni = (i as i32).wrapping_add(steps.get(k).copied().unwrap_or(0)) as usize;
             if self.closed.get(ni) {
                 continue;
             }
@@ -185,11 +179,12 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
             } else {
                 COST_PER_CELL
             };
-            let (cand, par) = match self.algo {
-                Algo::Theta => theta::relax(self, grid, i, gs, (nx, ny), step),
-                _ => (gs.saturating_add(step), i as u32),
+            let (nx, ny) = (x + dx, y + dy);
+            let (cand, par) = if theta {
+                theta::relax(self, grid, i, gs, (nx, ny), step)
+            } else {
+                (gs.saturating_add(step), i as u32)
             };
-            let blind = matches!(self.algo, Algo::Bfs | Algo::Dfs);
             let better = !self.seen.get(ni) || (!blind && cand < self.g_at(ni));
             if better {
                 self.set_node(ni, cand, par);
@@ -208,7 +203,7 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
 
     /// The open list's key of cell `s` reached at cost `g`: g + h for the
     /// best-first searches, the push count for BFS and DFS.
-    #[inline]
+    #[inline(always)]
     fn key(&mut self, s: Cell, g: u32) -> u32 {
         let n = self.pushes;
         self.pushes = n.saturating_add(1);
@@ -220,5 +215,16 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
             Algo::Dfs => return u32::MAX - n,
         };
         g.saturating_add(h)
+    }
+}
+
+/// The open list's order for `algo`: the radix queue for A* octile, whose
+/// heuristic is consistent (its keys never fall: [`Order::Monotone`]); the
+/// heap's strict order for the rest, whose results (the Euclidean A* of
+/// Table 1 and the mission, OHA*, Theta*, BFS, DFS) it keeps exactly.
+fn open_order(algo: Algo) -> Order {
+    match algo {
+        Algo::AStarOctile => Order::Monotone,
+        _ => Order::Strict,
     }
 }

@@ -10,6 +10,7 @@
 use super::open_list::OpenList;
 use crate::grid::Cell;
 use crate::math::bits::Bits;
+use crate::math::divide::{RowDivider, EXACT_BELOW};
 
 /// The most goals one multi-goal query takes.
 pub const MAX_GOALS: usize = 64;
@@ -150,15 +151,26 @@ pub const NEIGHBOURS: [(i32, i32); 8] = [
     (1, 1),
 ];
 
+/// A cell's search record: its cost so far and the linear index of its
+/// parent.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Node {
+    pub(super) g: u32,
+    pub(super) parent: u32,
+}
+
 /// Search state for maps of up to `N` cells. `NW` must be `N / 32` rounded
 /// up (checked at compile time); `OPEN` is the open list's capacity.
 ///
-/// Every field is a plain integer (or array of them) and the all-zero bit
-/// pattern is a valid idle state, equal to [`SearchState::new`]; a host
-/// may therefore allocate a large state directly on the heap, zeroed.
+/// Every field is a plain integer (or array of them, or a `#[repr(u8)]`
+/// enum whose discriminant 0 is a variant) and the all-zero bit pattern is
+/// a valid idle state that behaves as [`SearchState::new`] (the radix
+/// buckets, which differ, are set by every `begin`); a host may therefore
+/// allocate a large state directly on the heap, zeroed.
 pub struct SearchState<const N: usize, const NW: usize, const OPEN: usize> {
-    pub(super) g: [u32; N],
-    pub(super) parent: [u32; N],
+    /// Each cell's g-score and parent side by side: relaxing a cell writes
+    /// both, one cache line instead of two.
+    pub(super) node: [Node; N],
     pub(super) seen: Bits<NW>,
     pub(super) closed: Bits<NW>,
     pub(super) open: OpenList<OPEN>,
@@ -170,6 +182,8 @@ pub struct SearchState<const N: usize, const NW: usize, const OPEN: usize> {
     pub(super) found: u32,
     pub(super) width: u32,
     pub(super) height: u32,
+    /// Divides a linear index by `width` without a divide instruction.
+    pub(super) rows: RowDivider,
     pub(super) nodes: u32,
     /// Bumped by every `begin`: a caller that lends this state to another
     /// (the planner to the fine searches, [`super::window`]) compares it
@@ -188,15 +202,17 @@ impl<const N: usize, const NW: usize, const OPEN: usize> Default for SearchState
 }
 
 impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN> {
-    const WORDS_OK: () = assert!(NW * 32 >= N && NW <= N / 32 + 1, "NW must be words_for(N)");
+    const WORDS_OK: () = assert!(
+        NW * 32 >= N && NW <= N / 32 + 1 && N <= EXACT_BELOW,
+        "NW must be words_for(N), and N at most 2^24 (RowDivider)"
+    );
 
     /// A fresh state (usable in a `static`).
     pub const fn new() -> Self {
         #[allow(clippy::let_unit_value)]
         let () = Self::WORDS_OK;
         Self {
-            g: [0; N],
-            parent: [0; N],
+            node: [Node { g: 0, parent: 0 }; N],
             seen: Bits::new(),
             closed: Bits::new(),
             open: OpenList::new(),
@@ -208,6 +224,7 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
             found: 0,
             width: 0,
             height: 0,
+            rows: RowDivider::new(1),
             nodes: 0,
             query: 0,
             pushes: 0,
@@ -220,20 +237,27 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
 
     #[inline]
     pub(crate) fn g_at(&self, i: usize) -> u32 {
-        self.g.get(i).copied().unwrap_or(u32::MAX)
+        self.node.get(i).map_or(u32::MAX, |n| n.g)
     }
 
     #[inline]
     pub(crate) fn parent_at(&self, i: usize) -> usize {
-        self.parent.get(i).map(|&p| p as usize).unwrap_or(i)
+        self.node.get(i).map_or(i, |n| n.parent as usize)
     }
 
     pub(super) fn set_node(&mut self, i: usize, g: u32, parent: u32) {
-        if let (Some(gs), Some(ps)) = (self.g.get_mut(i), self.parent.get_mut(i)) {
-            *gs = g;
-            *ps = parent;
+        if let Some(n) = self.node.get_mut(i) {
+            *n = Node { g, parent };
             self.seen.put(i, true);
         }
+    }
+
+    /// The cell at linear index `i` of the current map.
+    #[inline(always)]
+    pub(super) fn cell_of(&self, i: usize) -> Cell {
+        let y = self.rows.div(i as u32);
+        let x = (i as u32).wrapping_sub(y.wrapping_mul(self.width));
+        Cell::new(x as u16, y as u16)
     }
 
     pub(crate) fn start_index(&self) -> usize {
