@@ -193,6 +193,75 @@ fn bench_peers_runs_both_engines_on_the_same_queries() {
     assert_eq!(out.status.code(), Some(2));
 }
 
+/// D* Lite on the command line: `search --algo dstar-lite` finds A*
+/// octile's cost; `bench replan` repairs as many plans as A* searches again
+/// with no cost mismatch and fewer nodes; its refusals are one line and
+/// exit code 2 (and `scen`, which runs the best-first searches only,
+/// refuses it the same way).
+#[test]
+fn dstar_lite_plans_and_repairs() {
+    let plan = |algo: &str| {
+        json(&[
+            "search",
+            "--map",
+            "maps/movingai/rooms64.map",
+            "--from",
+            "55,45",
+            "--to",
+            "11,43",
+            "--algo",
+            algo,
+            "--json",
+        ])
+    };
+    let (d, a) = (plan("dstar-lite"), plan("astar-octile"));
+    assert_eq!(d["algo"], "dstar-lite");
+    assert!((d["cost"].as_f64().unwrap() - a["cost"].as_f64().unwrap()).abs() < 1e-9);
+    let replan = |flag: &'static str, value: &'static str| {
+        vec![
+            "bench",
+            "replan",
+            "--scen",
+            "maps/movingai/rooms64.map.scen",
+            "--map",
+            "maps/movingai/rooms64.map",
+            flag,
+            value,
+        ]
+    };
+    let mut args = replan("--problems", "12");
+    args.push("--json");
+    let j = json(&args);
+    assert_eq!(j["mismatches"], 0, "{j}");
+    let (first, repair, astar) = (&j["engines"][0], &j["engines"][1], &j["engines"][2]);
+    assert_eq!(first["replans"], 12, "{j}");
+    assert_eq!(repair["replans"], astar["replans"], "{j}");
+    assert!(repair["replans"].as_u64().unwrap() > 0, "{j}");
+    assert!(
+        repair["mean_nodes"].as_f64() < astar["mean_nodes"].as_f64(),
+        "{j}"
+    );
+    let ended = ["at_goal", "cut_off", "all_changes"].map(|k| j[k].as_u64().unwrap());
+    assert_eq!(ended.iter().sum::<u64>(), 12, "{j}");
+    for args in [
+        replan("--side", "2"),
+        replan("--every", "0"),
+        vec![
+            "scen",
+            "maps/movingai/rooms64.map.scen",
+            "--map",
+            "maps/movingai/rooms64.map",
+            "--algo",
+            "dstar-lite",
+        ],
+    ] {
+        let out = bin().args(&args).current_dir(repo()).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+    }
+}
+
 #[test]
 fn table1_small_run_keeps_the_papers_order() {
     let j = json(&["bench", "table1", "--runs", "60", "--seed", "7", "--json"]);

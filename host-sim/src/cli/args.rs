@@ -31,18 +31,25 @@ pub enum AlgoArg {
     Dfs,
     Oha,
     Theta,
+    /// D* Lite (one plan here; `bench replan` repairs it as the map changes).
+    DstarLite,
 }
 
-impl From<AlgoArg> for Algo {
-    fn from(a: AlgoArg) -> Self {
-        match a {
+impl AlgoArg {
+    /// The core's best-first search, or a one-line error for D* Lite,
+    /// which only `search` and `bench replan` run.
+    pub fn best_first(self) -> Result<Algo, String> {
+        Ok(match self {
             AlgoArg::Astar => Algo::AStar,
             AlgoArg::AstarOctile => Algo::AStarOctile,
             AlgoArg::Bfs => Algo::Bfs,
             AlgoArg::Dfs => Algo::Dfs,
             AlgoArg::Oha => Algo::Oha,
             AlgoArg::Theta => Algo::Theta,
-        }
+            AlgoArg::DstarLite => {
+                return Err("--algo dstar-lite runs in `search` and `bench replan` only".into())
+            }
+        })
     }
 }
 

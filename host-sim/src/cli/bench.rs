@@ -75,6 +75,32 @@ pub enum BenchCmd {
         #[arg(long)]
         json: bool,
     },
+    /// D* Lite against A* from nothing, as obstacles appear ahead of a robot walking MovingAI problems (nodes and time per replan).
+    Replan {
+        /// The .scen file.
+        #[arg(long)]
+        scen: PathBuf,
+        #[command(flatten)]
+        map: super::args::MapArgs,
+        /// How many problems, the scenario's last (longest).
+        #[arg(long, default_value_t = 50)]
+        problems: usize,
+        /// Cells walked between two obstacles.
+        #[arg(long, default_value_t = 10)]
+        every: usize,
+        /// How far along the path an obstacle appears, cells.
+        #[arg(long, default_value_t = 4)]
+        ahead: usize,
+        /// Obstacles per problem at most.
+        #[arg(long, default_value_t = 20)]
+        changes: usize,
+        /// An obstacle's side, cells (odd).
+        #[arg(long, default_value_t = 3)]
+        side: usize,
+        /// Print one JSON object.
+        #[arg(long)]
+        json: bool,
+    },
     /// Wheel speed step response to 0.3 m/s (rise time, overshoot, steady-state error).
     WheelStep {
         #[arg(long, default_value_t = 1)]
@@ -148,6 +174,24 @@ pub fn run(which: BenchCmd) -> Result<(), String> {
             super::bench_missions::run(runs, seed, max_time, threads, json.as_deref(), &sel)
         }
         BenchCmd::Peers { scen, map, json } => super::bench_peers::run(&scen, &map, json),
+        BenchCmd::Replan {
+            scen,
+            map,
+            problems,
+            every,
+            ahead,
+            changes,
+            side,
+            json,
+        } => {
+            let how = host_sim::run::replan::Changes {
+                every,
+                ahead,
+                changes,
+                side,
+            };
+            super::bench_replan::run(&scen, &map, problems, how, json)
+        }
         BenchCmd::WheelStep { seed } => cmd_wheel_step(seed),
     }
 }

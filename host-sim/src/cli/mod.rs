@@ -6,6 +6,7 @@ pub mod args;
 pub mod bench;
 pub mod bench_missions;
 pub mod bench_peers;
+pub mod bench_replan;
 pub mod demo;
 pub mod drive;
 pub mod lidar;

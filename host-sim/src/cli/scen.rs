@@ -22,7 +22,7 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<(), String> {
-    cmd_scen(&a.scen, &a.map, a.algo.into(), a.json)
+    cmd_scen(&a.scen, &a.map, a.algo.best_first()?, a.json)
 }
 
 fn cmd_scen(scen: &Path, args: &MapArgs, algo: Algo, json: bool) -> Result<(), String> {

@@ -3,11 +3,13 @@
 use std::time::Instant;
 
 use super::args::{parse_cell, AlgoArg, MapArgs};
-use host_sim::capacity::{new_grid, new_search};
+use host_sim::capacity::{new_grid, new_search, HostGrid};
 use host_sim::io::scen::algo_name;
 use host_sim::report::metrics::polyline_length;
+use host_sim::run::replan::new_dstar;
 use robovac::search::prune::prune;
-use robovac::{Algo, Cell};
+use robovac::search::SearchError;
+use robovac::Cell;
 use serde_json::json;
 
 #[derive(clap::Args)]
@@ -29,21 +31,49 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<(), String> {
-    cmd_search(&a.map, a.from, a.to, a.algo.into(), a.json)
+    cmd_search(&a.map, a.from, a.to, a.algo, a.json)
 }
 
-fn cmd_search(args: &MapArgs, from: Cell, to: Cell, algo: Algo, json: bool) -> Result<(), String> {
+/// One plan by `algo`: the path's length, the nodes expanded and the µs.
+fn plan(
+    grid: &HostGrid,
+    from: Cell,
+    to: Cell,
+    algo: AlgoArg,
+    path: &mut [Cell],
+) -> Result<(usize, u32, f64), SearchError> {
+    let t0 = Instant::now();
+    let (n, nodes) = if let AlgoArg::DstarLite = algo {
+        let mut d = new_dstar();
+        d.begin(grid, from, to)?;
+        let r = d.compute(grid)?;
+        (d.write_path(grid, path)?, r.nodes_expanded)
+    } else {
+        let mut state = new_search();
+        let algo = algo.best_first().map_err(|_| SearchError::NotRunning)?;
+        let stats = state.search(grid, from, &[to], algo)?;
+        (state.write_path(path)?, stats.nodes_expanded)
+    };
+    Ok((n, nodes, t0.elapsed().as_secs_f64() * 1e6))
+}
+
+fn cmd_search(
+    args: &MapArgs,
+    from: Cell,
+    to: Cell,
+    algo: AlgoArg,
+    json: bool,
+) -> Result<(), String> {
     let map = args.load()?;
     let mut grid = new_grid();
     map.to_grid(&mut *grid).map_err(|e| e.to_string())?;
-    let mut state = new_search();
     let mut path = vec![Cell::default(); grid.cells()];
-    let t0 = Instant::now();
-    let stats = state
-        .search(&*grid, from, &[to], algo)
+    let (n, nodes, us) = plan(&grid, from, to, algo, &mut path)
         .map_err(|e| format!("{}: {e}", args.map.display()))?;
-    let n = state.write_path(&mut path).map_err(|e| e.to_string())?;
-    let us = t0.elapsed().as_secs_f64() * 1e6;
+    let name = match algo.best_first() {
+        Ok(a) => algo_name(a),
+        Err(_) => "dstar-lite",
+    };
     let full = path[..n].to_vec();
     let m = prune(&*grid, &mut path[..n]);
     let pruned = &path[..m];
@@ -53,14 +83,14 @@ fn cmd_search(args: &MapArgs, from: Cell, to: Cell, algo: Algo, json: bool) -> R
         let pts = |p: &[Cell]| p.iter().map(|c| json!([c.x, c.y])).collect::<Vec<_>>();
         let out = json!({
             "map": args.map.display().to_string(),
-            "algo": algo_name(algo),
+            "algo": name,
             "from": [from.x, from.y],
             "to": [to.x, to.y],
             "path": pts(&full),
             "cost": cost,
             "pruned_path": pts(pruned),
             "pruned_length": pruned_len,
-            "nodes_expanded": stats.nodes_expanded,
+            "nodes_expanded": nodes,
             "time_us": us,
         });
         println!("{out}");
@@ -71,12 +101,12 @@ fn cmd_search(args: &MapArgs, from: Cell, to: Cell, algo: Algo, json: bool) -> R
                 .collect::<Vec<_>>()
                 .join(" ")
         };
-        println!("algo            {}", algo_name(algo));
+        println!("algo            {name}");
         println!("path            {}", fmt(&full));
         println!("cost            {cost:.4} cells ({} cells on the path)", n);
         println!("pruned          {}", fmt(pruned));
         println!("pruned length   {pruned_len:.4} cells ({m} waypoints)");
-        println!("nodes expanded  {}", stats.nodes_expanded);
+        println!("nodes expanded  {nodes}");
         println!("time            {us:.1} us");
     }
     Ok(())

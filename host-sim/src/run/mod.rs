@@ -16,6 +16,7 @@ pub mod pil;
 pub mod plan;
 pub mod power;
 pub mod power_loss;
+pub mod replan;
 mod report_json;
 pub mod rooms;
 pub mod suite;
