@@ -54,7 +54,7 @@ pub const fn search_state_bytes(cells: usize, open: usize) -> usize {
 }
 
 /// Fixed part of the search state: goal list (64 cells), query fields,
-/// and the open list's radix buckets (152 bytes, [`crate::search::radix`])
+/// and the open list's radix buckets (152 bytes, [`crate::search::open_list::radix`])
 /// with its order and the row divider.
 pub const SEARCH_FIXED_BYTES_MAX: usize = 64 * 4 + 64 + 160;
 
@@ -232,7 +232,7 @@ const _: () = assert!(FW_EXECUTIVE_BYTES <= 20_392);
 /// (1,681 bytes, [`crate::grid::rooms`]) were paid for by halving the fine
 /// path (2,048 bytes); the edge pass's chord ([`crate::nav::chord`]) is
 /// about 200 bytes of the executive; the open list's radix order
-/// ([`crate::search::radix`]) 168 bytes of the planner. The stack left is measured by the size report and
+/// ([`crate::search::open_list::radix`]) 168 bytes of the planner. The stack left is measured by the size report and
 /// the processor-in-the-loop run (its high-water mark). This bound is
 /// asserted so that nothing grows unnoticed.
 pub const FW_MISSION_BYTES: usize = FW_PLANNER_BYTES

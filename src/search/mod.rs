@@ -4,14 +4,13 @@
 //!
 //! The files point one way, toward the leaves: [`state`] (the state, its
 //! errors and statistics: a leaf), [`heuristics`], [`theta`] (Theta*'s
-//! parent update), [`open_list`] (with its radix order, [`radix`]) and
+//! parent update), [`open_list`] (with its radix order, [`open_list::radix`]) and
 //! [`prune`] serve [`run`], the loop.
 
 pub mod dstar_lite;
 pub mod heuristics;
 pub mod open_list;
 pub mod prune;
-pub mod radix;
 pub mod run;
 pub mod state;
 pub mod theta;

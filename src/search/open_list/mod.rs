@@ -1,6 +1,6 @@
 //! The open list: an array-based 4-ary min-heap of fixed capacity, or, for
 //! searches whose keys never fall below the last one popped, a radix queue
-//! in the same array ([`super::radix`], [`Order::Monotone`]).
+//! in the same array ([`radix`], [`Order::Monotone`]).
 //!
 //! **Why 4-ary** (issue 13, search speed): a pop sifts down half as many
 //! levels as in a binary heap, and the four children of a node sit side by
@@ -20,6 +20,8 @@
 //! Ordering: smallest `f` first; among equal `f`, largest `g` first (the
 //! entry nearer the goal), then smallest cell index, so runs are
 //! deterministic.
+
+pub mod radix;
 
 /// A heap entry: priority `f`, cost-so-far `g`, and the cell's index.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -75,7 +77,7 @@ pub enum Order {
     /// then larger g, then smaller index). For any keys. Discriminant 0:
     /// an all-zero open list is an empty heap.
     Strict = 0,
-    /// The radix queue ([`super::radix`]): smaller f first, equal f last in
+    /// The radix queue ([`radix`]): smaller f first, equal f last in
     /// first out, g not kept. Only for keys that never fall below the last
     /// key popped (a consistent heuristic); a smaller key is raised to it.
     Monotone,
@@ -84,11 +86,11 @@ pub enum Order {
 /// An open list of at most `CAP` entries: a 4-ary min-heap, or a radix
 /// queue over the same array ([`Order`]).
 pub struct OpenList<const CAP: usize> {
-    pub(super) len: usize,
-    pub(super) items: [Entry; CAP],
-    pub(super) peak: usize,
-    pub(super) order: Order,
-    pub(super) radix: super::radix::Buckets,
+    len: usize,
+    items: [Entry; CAP],
+    peak: usize,
+    order: Order,
+    radix: radix::Buckets,
 }
 
 impl<const CAP: usize> Default for OpenList<CAP> {
@@ -105,7 +107,7 @@ impl<const CAP: usize> OpenList<CAP> {
             items: [Entry { f: 0, g: 0, idx: 0 }; CAP],
             peak: 0,
             order: Order::Strict,
-            radix: super::radix::Buckets::new(),
+            radix: radix::Buckets::new(),
         }
     }
 
@@ -120,7 +122,7 @@ impl<const CAP: usize> OpenList<CAP> {
         self.len = 0;
         self.peak = 0;
         self.order = order;
-        self.radix = super::radix::Buckets::new();
+        self.radix = radix::Buckets::new();
     }
 
     /// Number of entries.

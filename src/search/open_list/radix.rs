@@ -45,7 +45,7 @@
 //! a panic: the search then stays complete but may lose optimality, which is
 //! why only A* octile takes this order.
 
-use super::open_list::{Entry, Full, OpenList, Order};
+use super::{Entry, Full, OpenList, Order};
 
 /// The end of a bucket's list (and of the free list).
 const NIL: u32 = u32::MAX;
