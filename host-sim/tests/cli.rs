@@ -193,28 +193,29 @@ fn bench_peers_runs_both_engines_on_the_same_queries() {
     assert_eq!(out.status.code(), Some(2));
 }
 
+/// `search` on rooms64 from (55,45) to (11,43) with `algo`, as JSON.
+fn rooms64_search(algo: &str) -> serde_json::Value {
+    json(&[
+        "search",
+        "--map",
+        "maps/movingai/rooms64.map",
+        "--from",
+        "55,45",
+        "--to",
+        "11,43",
+        "--algo",
+        algo,
+        "--json",
+    ])
+}
+
 /// D* Lite on the command line: `search --algo dstar-lite` finds A*
-/// octile's cost; `bench replan` repairs as many plans as A* searches again
-/// with no cost mismatch and fewer nodes; its refusals are one line and
-/// exit code 2 (and `scen`, which runs the best-first searches only,
-/// refuses it the same way).
+/// octile's cost and `scen` solves every problem optimally; `bench replan`
+/// repairs as many plans as A* searches again with no cost mismatch and
+/// fewer nodes; its refusals are one line and exit code 2.
 #[test]
 fn dstar_lite_plans_and_repairs() {
-    let plan = |algo: &str| {
-        json(&[
-            "search",
-            "--map",
-            "maps/movingai/rooms64.map",
-            "--from",
-            "55,45",
-            "--to",
-            "11,43",
-            "--algo",
-            algo,
-            "--json",
-        ])
-    };
-    let (d, a) = (plan("dstar-lite"), plan("astar-octile"));
+    let (d, a) = (rooms64_search("dstar-lite"), rooms64_search("astar-octile"));
     assert_eq!(d["algo"], "dstar-lite");
     assert!((d["cost"].as_f64().unwrap() - a["cost"].as_f64().unwrap()).abs() < 1e-9);
     let replan = |flag: &'static str, value: &'static str| {
@@ -243,23 +244,46 @@ fn dstar_lite_plans_and_repairs() {
     );
     let ended = ["at_goal", "cut_off", "all_changes"].map(|k| j[k].as_u64().unwrap());
     assert_eq!(ended.iter().sum::<u64>(), 12, "{j}");
-    for args in [
-        replan("--side", "2"),
-        replan("--every", "0"),
-        vec![
-            "scen",
-            "maps/movingai/rooms64.map.scen",
-            "--map",
-            "maps/movingai/rooms64.map",
-            "--algo",
-            "dstar-lite",
-        ],
-    ] {
+    for args in [replan("--side", "2"), replan("--every", "0")] {
         let out = bin().args(&args).current_dir(repo()).output().unwrap();
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
         assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
     }
+}
+
+/// The potential field on the command line: on rooms64 some problems end
+/// at a local minimum, shown in `scen`'s report and in `search`'s JSON;
+/// D* Lite solves every one optimally.
+#[test]
+fn scen_runs_dstar_lite_and_shows_the_fields_local_minima() {
+    let scen = |algo: &str| {
+        json(&[
+            "scen",
+            "maps/movingai/rooms64.map.scen",
+            "--map",
+            "maps/movingai/rooms64.map",
+            "--algo",
+            algo,
+            "--json",
+        ])
+    };
+    let d = scen("dstar-lite");
+    assert_eq!(d["solved"], d["problems"], "{d}");
+    assert_eq!(d["optimal_mismatches"], 0, "{d}");
+    let a = scen("apf");
+    let solved = a["solved"].as_u64().unwrap();
+    assert!(
+        solved > 0 && solved < a["problems"].as_u64().unwrap(),
+        "{a}"
+    );
+    assert!(
+        a["mismatch_examples"].to_string().contains("local minimum"),
+        "{a}"
+    );
+    let s = rooms64_search("apf");
+    assert_eq!(s["reached"], false, "{s}");
+    assert_eq!(s["local_minimum"], serde_json::json!([49, 43]), "{s}");
 }
 
 #[test]

@@ -1,12 +1,14 @@
 //! Grid search: A*, OHA* and Theta* behind one resumable best-first loop,
-//! multi-goal, with path pruning; and D* Lite ([`dstar_lite`]), which keeps
-//! one path up to date as cells change. Uses `grid` and `math` only.
+//! multi-goal, with path pruning; D* Lite ([`dstar_lite`]), which keeps one
+//! path up to date as cells change; and the artificial potential field
+//! ([`apf`]), a local planner with its local minima. Uses `grid` and `math` only.
 //!
 //! The files point one way, toward the leaves: [`state`] (the state, its
 //! errors and statistics: a leaf), [`heuristics`], [`theta`] (Theta*'s
 //! parent update), [`open_list`] (with its radix order, [`open_list::radix`]) and
 //! [`prune`] serve [`run`], the loop.
 
+pub mod apf;
 pub mod dstar_lite;
 pub mod heuristics;
 pub mod open_list;

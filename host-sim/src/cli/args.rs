@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 
 use clap::ValueEnum;
 use host_sim::io::maps::{load_map, LoadOptions, MapData};
+use host_sim::run::engines::Engine;
 use robovac::{Algo, Cell};
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -33,23 +34,24 @@ pub enum AlgoArg {
     Theta,
     /// D* Lite (one plan here; `bench replan` repairs it as the map changes).
     DstarLite,
+    /// The artificial potential field (a walk downhill; it may be held at a
+    /// local minimum).
+    Apf,
 }
 
 impl AlgoArg {
-    /// The core's best-first search, or a one-line error for D* Lite,
-    /// which only `search` and `bench replan` run.
-    pub fn best_first(self) -> Result<Algo, String> {
-        Ok(match self {
-            AlgoArg::Astar => Algo::AStar,
-            AlgoArg::AstarOctile => Algo::AStarOctile,
-            AlgoArg::Bfs => Algo::Bfs,
-            AlgoArg::Dfs => Algo::Dfs,
-            AlgoArg::Oha => Algo::Oha,
-            AlgoArg::Theta => Algo::Theta,
-            AlgoArg::DstarLite => {
-                return Err("--algo dstar-lite runs in `search` and `bench replan` only".into())
-            }
-        })
+    /// The engine that runs it.
+    pub fn engine(self) -> Engine {
+        match self {
+            AlgoArg::Astar => Engine::BestFirst(Algo::AStar),
+            AlgoArg::AstarOctile => Engine::BestFirst(Algo::AStarOctile),
+            AlgoArg::Bfs => Engine::BestFirst(Algo::Bfs),
+            AlgoArg::Dfs => Engine::BestFirst(Algo::Dfs),
+            AlgoArg::Oha => Engine::BestFirst(Algo::Oha),
+            AlgoArg::Theta => Engine::BestFirst(Algo::Theta),
+            AlgoArg::DstarLite => Engine::DStarLite,
+            AlgoArg::Apf => Engine::Apf,
+        }
     }
 }
 

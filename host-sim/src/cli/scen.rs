@@ -3,8 +3,10 @@
 use std::path::{Path, PathBuf};
 
 use super::args::{AlgoArg, MapArgs};
-use host_sim::io::scen::{parse_scen, run_scen};
-use robovac::Algo;
+use host_sim::capacity::HostGrid;
+use host_sim::io::scen::{parse_scen, run_scen, Problem};
+use host_sim::run::engines::{Engine, Engines};
+use robovac::Cell;
 use serde_json::json;
 
 #[derive(clap::Args)]
@@ -22,14 +24,24 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(a: Args) -> Result<(), String> {
-    cmd_scen(&a.scen, &a.map, a.algo.best_first()?, a.json)
+    cmd_scen(&a.scen, &a.map, a.algo.engine(), a.json)
 }
 
-fn cmd_scen(scen: &Path, args: &MapArgs, algo: Algo, json: bool) -> Result<(), String> {
+fn cmd_scen(scen: &Path, args: &MapArgs, engine: Engine, json: bool) -> Result<(), String> {
     let bytes = std::fs::read(scen).map_err(|e| format!("{}: cannot read: {e}", scen.display()))?;
     let problems = parse_scen(scen, &bytes).map_err(|e| e.to_string())?;
     let map = args.load()?;
-    let rep = run_scen(&map, &problems, algo).map_err(|e| e.to_string())?;
+    let mut engines = Engines::new();
+    let plan = |grid: &HostGrid, p: &Problem, path: &mut [Cell]| {
+        let r = engines
+            .plan(engine, grid, p.start, p.goal, path)
+            .map_err(|e| e.to_string())?;
+        match r.local_minimum {
+            Some(c) => Err(format!("held at a local minimum, ({},{})", c.x, c.y)),
+            None => Ok((r.cells, r.nodes)),
+        }
+    };
+    let rep = run_scen(&map, &problems, engine.name(), plan).map_err(|e| e.to_string())?;
     if json {
         let out = json!({
             "algo": rep.algo,

@@ -3,12 +3,10 @@
 use std::time::Instant;
 
 use super::args::{parse_cell, AlgoArg, MapArgs};
-use host_sim::capacity::{new_grid, new_search, HostGrid};
-use host_sim::io::scen::algo_name;
+use host_sim::capacity::new_grid;
 use host_sim::report::metrics::polyline_length;
-use host_sim::run::replan::new_dstar;
+use host_sim::run::engines::Engines;
 use robovac::search::prune::prune;
-use robovac::search::SearchError;
 use robovac::Cell;
 use serde_json::json;
 
@@ -34,29 +32,6 @@ pub fn run(a: Args) -> Result<(), String> {
     cmd_search(&a.map, a.from, a.to, a.algo, a.json)
 }
 
-/// One plan by `algo`: the path's length, the nodes expanded and the µs.
-fn plan(
-    grid: &HostGrid,
-    from: Cell,
-    to: Cell,
-    algo: AlgoArg,
-    path: &mut [Cell],
-) -> Result<(usize, u32, f64), SearchError> {
-    let t0 = Instant::now();
-    let (n, nodes) = if let AlgoArg::DstarLite = algo {
-        let mut d = new_dstar();
-        d.begin(grid, from, to)?;
-        let r = d.compute(grid)?;
-        (d.write_path(grid, path)?, r.nodes_expanded)
-    } else {
-        let mut state = new_search();
-        let algo = algo.best_first().map_err(|_| SearchError::NotRunning)?;
-        let stats = state.search(grid, from, &[to], algo)?;
-        (state.write_path(path)?, stats.nodes_expanded)
-    };
-    Ok((n, nodes, t0.elapsed().as_secs_f64() * 1e6))
-}
-
 fn cmd_search(
     args: &MapArgs,
     from: Cell,
@@ -68,12 +43,15 @@ fn cmd_search(
     let mut grid = new_grid();
     map.to_grid(&mut *grid).map_err(|e| e.to_string())?;
     let mut path = vec![Cell::default(); grid.cells()];
-    let (n, nodes, us) = plan(&grid, from, to, algo, &mut path)
+    let engine = algo.engine();
+    let mut engines = Engines::new();
+    let t0 = Instant::now();
+    let r = engines
+        .plan(engine, &grid, from, to, &mut path)
         .map_err(|e| format!("{}: {e}", args.map.display()))?;
-    let name = match algo.best_first() {
-        Ok(a) => algo_name(a),
-        Err(_) => "dstar-lite",
-    };
+    let us = t0.elapsed().as_secs_f64() * 1e6;
+    let (n, nodes, name) = (r.cells, r.nodes, engine.name());
+    let held = r.local_minimum.map(|c| [c.x, c.y]);
     let full = path[..n].to_vec();
     let m = prune(&*grid, &mut path[..n]);
     let pruned = &path[..m];
@@ -91,6 +69,8 @@ fn cmd_search(
             "pruned_path": pts(pruned),
             "pruned_length": pruned_len,
             "nodes_expanded": nodes,
+            "reached": held.is_none(),
+            "local_minimum": held,
             "time_us": us,
         });
         println!("{out}");
@@ -107,6 +87,9 @@ fn cmd_search(
         println!("pruned          {}", fmt(pruned));
         println!("pruned length   {pruned_len:.4} cells ({m} waypoints)");
         println!("nodes expanded  {nodes}");
+        if let Some([x, y]) = held {
+            println!("ended           held at a local minimum, ({x},{y}), short of the goal");
+        }
         println!("time            {us:.1} us");
     }
     Ok(())

@@ -6,7 +6,7 @@ use std::time::Instant;
 use robovac::search::prune::prune;
 use robovac::{Algo, Cell};
 
-use crate::capacity::{new_grid, new_search};
+use crate::capacity::{new_grid, HostGrid};
 use crate::io::maps::{MapData, MapError};
 use crate::report::metrics::{median, polyline_length};
 
@@ -140,14 +140,20 @@ pub fn check_size(map: &MapData, k: usize, p: &Problem) -> Result<(), MapError> 
     )))
 }
 
-/// Runs every problem on `map` with `algo`.
-pub fn run_scen(map: &MapData, problems: &[Problem], algo: Algo) -> Result<ScenReport, MapError> {
+/// Runs every problem on `map` with `plan`, which writes a path into its
+/// buffer and gives its length and the nodes expanded, or says why there is
+/// none; `name` names the engine in the report.
+pub fn run_scen(
+    map: &MapData,
+    problems: &[Problem],
+    name: &str,
+    mut plan: impl FnMut(&HostGrid, &Problem, &mut [Cell]) -> Result<(usize, u32), String>,
+) -> Result<ScenReport, MapError> {
     let mut grid = new_grid();
     map.to_grid(&mut *grid)?;
-    let mut state = new_search();
     let mut path = vec![Cell::default(); grid.cells()];
     let mut rep = ScenReport {
-        algo: algo_name(algo).into(),
+        algo: name.into(),
         problems: problems.len(),
         ..Default::default()
     };
@@ -156,21 +162,23 @@ pub fn run_scen(map: &MapData, problems: &[Problem], algo: Algo) -> Result<ScenR
     for (k, p) in problems.iter().enumerate() {
         check_size(map, k, p)?;
         let t0 = Instant::now();
-        let res = state.search(&*grid, p.start, &[p.goal], algo);
-        let n = res.and_then(|_| state.write_path(&mut path));
+        let res = plan(&grid, p, &mut path);
         times.push(t0.elapsed().as_secs_f64() * 1e6);
-        let (Ok(stats), Ok(n)) = (res, n) else {
-            // An unsolved problem differs from its recorded optimum too.
-            rep.optimal_mismatches += 1;
-            if rep.mismatch_examples.len() < 5 {
-                rep.mismatch_examples
-                    .push(format!("problem {}: no path found", k + 1));
+        let (n, expanded) = match res {
+            Ok(r) => r,
+            Err(why) => {
+                // An unsolved problem differs from its recorded optimum too.
+                rep.optimal_mismatches += 1;
+                if rep.mismatch_examples.len() < 5 {
+                    rep.mismatch_examples
+                        .push(format!("problem {}: {why}", k + 1));
+                }
+                continue;
             }
-            continue;
         };
         rep.solved += 1;
         let cost = polyline_length(&path[..n]);
-        nodes.push(stats.nodes_expanded as f64);
+        nodes.push(expanded as f64);
         if (cost - p.optimal).abs() > 1e-3 {
             rep.optimal_mismatches += 1;
             if rep.mismatch_examples.len() < 5 {

@@ -4,6 +4,7 @@
 pub mod bench;
 pub mod dock;
 pub mod drive;
+pub mod engines;
 pub mod executive;
 pub mod inject;
 pub mod measure;
