@@ -291,7 +291,12 @@ mod emu {
         let mut run = |grid: &mut BenchGrid, start, kind, budget, name| {
             coverage_run(&meter, COV, grid, CHECK, REC, start, kind, budget, name)
         };
-        run(GRID, flat_start, PlannerKind::BOha, u32::MAX, "flat 40x20");
+        for kind in PlannerKind::ALL {
+            if GRID.load_ascii(FLAT_40X20).is_err() {
+                fail("built-in flat");
+            }
+            run(GRID, flat_start, kind, u32::MAX, "flat 40x20");
+        }
         let mut rng = SplitMix64::new(1);
         let spec = robovac::grid::maps::RandomMap {
             width: 30,

@@ -205,7 +205,7 @@ pub type FwParts<'a> = crate::mission::Parts<
 /// Bytes of the firmware mission's planner (planning grid search state,
 /// open list, backtracking list, transit path).
 pub const FW_PLANNER_BYTES: usize = core::mem::size_of::<FwPlanner>();
-const _: () = assert!(FW_PLANNER_BYTES <= 30_700);
+const _: () = assert!(FW_PLANNER_BYTES <= 30_708);
 /// Bytes of the fine searches' window (search state, open list, the
 /// window's copy of the obstacles).
 pub const FW_WINDOW_BYTES: usize = core::mem::size_of::<FwWindow>();
@@ -244,4 +244,4 @@ pub const FW_MISSION_BYTES: usize = FW_PLANNER_BYTES
     + FW_FINE_PATH * 4
     + FW_PLAN_CELLS
     + FW_EXECUTIVE_BYTES;
-const _: () = assert!(FW_MISSION_BYTES <= 118_809);
+const _: () = assert!(FW_MISSION_BYTES <= 118_817);

@@ -5,7 +5,7 @@
 
 use host_sim::capacity::{new_grid, HOST_WORDS};
 use host_sim::io::maps::MapData;
-use host_sim::run::plan::{new_planner, plan, plan_on, Plan, ALL_PLANNERS};
+use host_sim::run::plan::{new_planner, plan, plan_on, Plan, ALL_PLANNERS, SEED000_PLANNERS};
 use proptest::prelude::*;
 use robovac::coverage::{Coverage, PlannerKind, Step};
 use robovac::verify::check::Checker;
@@ -459,7 +459,7 @@ fn papers_claims_hold_in_direction_on_wide_maps() {
                 .2
                 .mean(m)
         };
-        for k in ALL_PLANNERS {
+        for k in SEED000_PLANNERS {
             assert_eq!(
                 rows.iter()
                     .find(|r| r.0 == label && r.1 == k)

@@ -67,7 +67,7 @@ use crate::grid::{Cell, Grid, Layer};
 use crate::search::prune::prune;
 use crate::search::{Progress, SearchError, SearchState, MAX_GOALS};
 use crate::verify::metrics::SegmentKind;
-use planners::{b_oha, b_oha_pc, b_theta, ba_star};
+use planners::{b_oha, b_oha_pc, b_theta, ba_star, binn, mark_backtrack, template};
 use rules::{ListRule, LocalMove, Priority, Rules};
 
 /// The coverage planners.
@@ -84,9 +84,27 @@ pub enum PlannerKind {
     BTheta,
     /// B-OHA*-PC: our variant of B-OHA* (see [`crate::coverage::planners::b_oha_pc`]).
     BOhaPc,
+    /// The efficient template method, seed 002 (ALGORITHMS.md §3).
+    Template,
+    /// Mark backtracking with closed areas, seed 001 (ALGORITHMS.md §2).
+    MarkBacktrack,
+    /// The bio-inspired neural network, seed 004 (ALGORITHMS.md §5).
+    Binn,
 }
 
 impl PlannerKind {
+    /// Every coverage planner: seed 000's (baselines first), then seeds
+    /// 001, 002 and 004's.
+    pub const ALL: [PlannerKind; 7] = [
+        PlannerKind::BaStar,
+        PlannerKind::BTheta,
+        PlannerKind::BOha,
+        PlannerKind::BOhaPc,
+        PlannerKind::MarkBacktrack,
+        PlannerKind::Template,
+        PlannerKind::Binn,
+    ];
+
     /// The name used on the command line.
     pub const fn name(self) -> &'static str {
         match self {
@@ -94,6 +112,9 @@ impl PlannerKind {
             PlannerKind::BaStar => "ba",
             PlannerKind::BTheta => "b-theta",
             PlannerKind::BOhaPc => "b-oha-pc",
+            PlannerKind::Template => "template",
+            PlannerKind::MarkBacktrack => "mark-backtrack",
+            PlannerKind::Binn => "binn",
         }
     }
 
@@ -104,6 +125,9 @@ impl PlannerKind {
             PlannerKind::BaStar => ba_star::RULES,
             PlannerKind::BTheta => b_theta::RULES,
             PlannerKind::BOhaPc => b_oha_pc::RULES,
+            PlannerKind::Template => template::RULES,
+            PlannerKind::MarkBacktrack => mark_backtrack::RULES,
+            PlannerKind::Binn => binn::RULES,
         }
     }
 }
@@ -146,6 +170,9 @@ pub struct Coverage<
     goals: [Cell; MAX_GOALS],
     goal_count: usize,
     cur: Cell,
+    /// The direction of the last move, unit steps ((0, 0) before the
+    /// first): seed 001's marks and BINN's turn term read it.
+    heading: (i8, i8),
     priority: [(i32, i32); 4],
     phase: Phase,
     stats: PlanStats,
@@ -173,6 +200,7 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
             goals: [Cell::new(0, 0); MAX_GOALS],
             goal_count: 0,
             cur: Cell::new(0, 0),
+            heading: (0, 0),
             priority: [N_, S_, E_, W_],
             phase: Phase::Idle,
             stats: PlanStats {
@@ -305,6 +333,7 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
         self.goal_count = 0;
         self.stats = PlanStats::default();
         self.cur = start;
+        self.heading = (0, 0);
         self.priority = match self.kind.rules().priority {
             Priority::ByAspect => b_oha::priority(grid),
             Priority::Fixed(p) => p,
@@ -388,6 +417,8 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
         match self.kind.rules().list {
             ListRule::NeighboursPrunedToCorners => b_oha::prune_list(&mut self.list, grid),
             ListRule::RebuiltFromCovered => ba_star::rebuild_list(&mut self.list, grid),
+            ListRule::NeighboursPrunedToEdges => template::prune_list(&mut self.list, grid),
+            ListRule::Marks | ListRule::RescanOnly => {}
         }
         self.stats.backtrack_points_kept += self.list.len() as u32;
         None
@@ -407,7 +438,7 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
             self.phase = Phase::Done;
             return Ok(Some(Step::Done));
         }
-        let algo = self.choose_goals();
+        let algo = self.choose_goals(grid);
         let goals = self.goals.get(..self.goal_count).unwrap_or(&[]);
         let begun = self.search.begin(grid, self.cur, goals, algo);
         self.query = self.search.query_id();
@@ -542,11 +573,16 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
         self.path_len = m + (n - t);
     }
 
-    /// The highest-priority 4-neighbour that is free and uncovered (our
-    /// variant: orphans first, see [`planners::b_oha_pc`]).
+    /// The highest-priority 4-neighbour that is free and uncovered (pockets
+    /// first, see [`planners::b_oha_pc`]; BINN's ranking, see
+    /// [`planners::binn`]).
     fn next_local_move<const GW: usize>(&self, grid: &Grid<GW>) -> Option<Cell> {
-        if self.kind.rules().local == LocalMove::PocketsFirst {
-            return b_oha_pc::next_move(grid, self.cur, &self.priority);
+        match self.kind.rules().local {
+            LocalMove::PocketsFirst => return b_oha_pc::next_move(grid, self.cur, &self.priority),
+            LocalMove::LeastTurn => {
+                return binn::next_move(grid, self.cur, self.heading(), &self.priority)
+            }
+            LocalMove::Priority => {}
         }
         let (x, y) = self.cur.xy();
         self.priority.iter().find_map(|&(dx, dy)| {
@@ -559,9 +595,16 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
         })
     }
 
-    /// Marks the cells of the segment cur → to covered, and takes them off
-    /// the list.
+    /// Marks the cells of the segment cur → to covered, takes them off
+    /// the list, and sets the heading.
     fn cover_segment<const GW: usize>(&mut self, grid: &mut Grid<GW>, to: Cell) {
+        let (dx, dy) = (
+            to.x as i32 - self.cur.x as i32,
+            to.y as i32 - self.cur.y as i32,
+        );
+        if (dx, dy) != (0, 0) {
+            self.heading = (dx.signum() as i8, dy.signum() as i8);
+        }
         let w = grid.width() as usize;
         supercover(self.cur.xy(), to.xy(), |x, y| {
             if grid.is_free(x, y) {
@@ -573,9 +616,22 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
         });
     }
 
+    /// The direction of the last move as (dx, dy) unit steps.
+    fn heading(&self) -> (i32, i32) {
+        (i32::from(self.heading.0), i32::from(self.heading.1))
+    }
+
+    /// What the planner's list rule records on arrival at a cell.
     fn on_arrive<const GW: usize>(&mut self, grid: &Grid<GW>) {
-        if self.kind.rules().list == ListRule::NeighboursPrunedToCorners {
-            b_oha::push_neighbours(&mut self.list, grid, self.cur);
+        match self.kind.rules().list {
+            ListRule::NeighboursPrunedToCorners | ListRule::NeighboursPrunedToEdges => {
+                b_oha::push_neighbours(&mut self.list, grid, self.cur)
+            }
+            ListRule::Marks => {
+                let heading = self.heading();
+                mark_backtrack::push_marks(&mut self.list, grid, self.cur, heading)
+            }
+            ListRule::RebuiltFromCovered | ListRule::RescanOnly => {}
         }
     }
 }

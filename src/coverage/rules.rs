@@ -18,8 +18,12 @@ pub enum Priority {
 pub enum LocalMove {
     /// The highest-priority free uncovered 4-neighbour.
     Priority,
-    /// A neighbour leading into a small pocket first (B-OHA*-PC).
+    /// A neighbour leading into a small pocket first (B-OHA*-PC, and seed
+    /// 001's closed areas).
     PocketsFirst,
+    /// The neighbour the bio-inspired network's activity and turn term
+    /// rank first (seed 004's BINN, [`super::planners::binn`]).
+    LeastTurn,
 }
 
 /// What enters the backtracking list, and when it is trimmed.
@@ -32,6 +36,25 @@ pub enum ListRule {
     /// Rebuilt at every critical point from covered cells with b(s) ≥ 1
     /// (BA*). Points are covered cells next to uncovered ones.
     RebuiltFromCovered,
+    /// Uncovered 8-neighbours on arrival; at a critical point the cells at
+    /// corners or edges of their uncovered region stay (seed 002's
+    /// dead-zone list, [`super::planners::template`]).
+    NeighboursPrunedToEdges,
+    /// North and south backtracking marks set while sweeping east or west
+    /// (seed 001, [`super::planners::mark_backtrack`]).
+    Marks,
+    /// Nothing is listed while sweeping; at a dead end the completeness
+    /// rescan lists every uncovered region's corner cells
+    /// ([`super::planners::binn`]: the network's activity leads to the
+    /// nearest uncovered region).
+    RescanOnly,
+}
+
+impl ListRule {
+    /// Whether the list's points are uncovered cells (every rule but BA*'s).
+    pub const fn points_uncovered(self) -> bool {
+        !matches!(self, ListRule::RebuiltFromCovered)
+    }
 }
 
 /// A planner's rules.

@@ -3,7 +3,7 @@
 //! module docs of [`super`]), and the goals of the next transit.
 
 use super::cells::{self, nearest_k, uncovered};
-use super::planners::ba_star;
+use super::planners::{ba_star, mark_backtrack};
 use super::rules::ListRule;
 use super::Coverage;
 use crate::grid::{Cell, Grid, Layer};
@@ -25,14 +25,13 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
         self.list.retain(grid, |g, c| {
             let (x, y) = c.xy();
             !g.is_blocked(x, y)
-                && match rule {
-                    // B-OHA* points are uncovered cells.
-                    ListRule::NeighboursPrunedToCorners => !g.get(Layer::Covered, x, y),
+                && if rule.points_uncovered() {
+                    // B-OHA*'s points (and all but BA*'s) are uncovered cells.
+                    !g.get(Layer::Covered, x, y)
+                } else {
                     // BA* points are covered cells with uncovered neighbours,
                     // or (fallback) uncovered cells.
-                    ListRule::RebuiltFromCovered => {
-                        !g.get(Layer::Covered, x, y) || ba_star::b(g, x, y) > 0
-                    }
+                    !g.get(Layer::Covered, x, y) || ba_star::b(g, x, y) > 0
                 }
         });
     }
@@ -71,9 +70,20 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
         }
     }
 
-    /// Fills `self.goals` for the next transit and returns the search.
-    pub(super) fn choose_goals(&mut self) -> Algo {
+    /// Fills `self.goals` for the next transit and returns the search:
+    /// the points nearest in straight line, or seed 001's north and south
+    /// points first ([`mark_backtrack::choose`]).
+    pub(super) fn choose_goals<const GW: usize>(&mut self, grid: &Grid<GW>) -> Algo {
         let rules = self.kind.rules();
+        if rules.list == ListRule::Marks {
+            let goal = mark_backtrack::choose(self.list.as_slice(), grid, self.cur);
+            self.goal_count = 0;
+            if let (Some(g), Some(slot)) = (goal, self.goals.first_mut()) {
+                *slot = g;
+                self.goal_count = 1;
+            }
+            return rules.transit;
+        }
         let k = rules.transit_goals;
         self.goal_count = nearest_k(self.list.as_slice(), self.cur, &mut self.goals, k);
         rules.transit

@@ -101,6 +101,24 @@ pub enum BenchCmd {
         #[arg(long)]
         json: bool,
     },
+    /// Every coverage planner on every map, each plan checked cell by cell (tables per map, a summary, the best per metric marked).
+    Coverage {
+        /// Map files and directories (their .map, .json, .png, .pgm, .yaml and .txt files).
+        #[arg(long, value_delimiter = ',', required = true)]
+        maps: Vec<PathBuf>,
+        /// Planners (names, or all).
+        #[arg(long, value_delimiter = ',', default_value = "all")]
+        planners: Vec<String>,
+        /// Cell side for image and Valetudo maps, metres (grid maps are planned cell for cell).
+        #[arg(long, default_value_t = 0.3)]
+        cell: f64,
+        /// Write every plan's metrics as JSON.
+        #[arg(long)]
+        json: Option<PathBuf>,
+        /// Write one picture per map and planner into this directory.
+        #[arg(long)]
+        svg_dir: Option<PathBuf>,
+    },
     /// Wheel speed step response to 0.3 m/s (rise time, overshoot, steady-state error).
     WheelStep {
         #[arg(long, default_value_t = 1)]
@@ -192,6 +210,19 @@ pub fn run(which: BenchCmd) -> Result<(), String> {
             };
             super::bench_replan::run(&scen, &map, problems, how, json)
         }
+        BenchCmd::Coverage {
+            maps,
+            planners,
+            cell,
+            json,
+            svg_dir,
+        } => super::bench_coverage::run(super::bench_coverage::Opts {
+            maps,
+            planners,
+            cell_m: cell,
+            json,
+            svg_dir,
+        }),
         BenchCmd::WheelStep { seed } => cmd_wheel_step(seed),
     }
 }

@@ -41,7 +41,8 @@ pub struct Args {
     /// The dock X,Y in metres (default: a free spot near the centre).
     #[arg(long, value_parser = parse_point)]
     pub start: Option<(f64, f64)>,
-    /// b-oha, ba, b-theta or b-oha-pc (ours).
+    /// b-oha, ba, b-theta, b-oha-pc (ours), mark-backtrack, template or
+    /// binn.
     #[arg(long, default_value = "b-oha")]
     pub planner: String,
     /// Silence the lidar from A to B seconds (A,B) to exercise the fault.

@@ -4,6 +4,7 @@
 
 pub mod args;
 pub mod bench;
+pub mod bench_coverage;
 pub mod bench_missions;
 pub mod bench_peers;
 pub mod bench_replan;

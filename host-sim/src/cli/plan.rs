@@ -9,7 +9,8 @@ use robovac::Cell;
 pub struct Args {
     #[command(flatten)]
     pub map: MapArgs,
-    /// b-oha, ba, b-theta or b-oha-pc (ours).
+    /// b-oha, ba, b-theta, b-oha-pc (ours), mark-backtrack, template or
+    /// binn.
     #[arg(long, default_value = "b-oha")]
     pub planner: String,
     /// Start cell X,Y (default: the first free cell in reading order).
@@ -41,8 +42,10 @@ fn cmd_plan(
     json: Option<&Path>,
     svg: Option<&Path>,
 ) -> Result<(), String> {
-    let kind = host_sim::run::plan::planner_by_name(planner)
-        .ok_or_else(|| format!("unknown planner {planner:?} (b-oha, ba, b-theta, b-oha-pc)"))?;
+    let kind = host_sim::run::plan::planner_by_name(planner).ok_or_else(|| {
+        let names = host_sim::run::plan::planner_names();
+        format!("unknown planner {planner:?} ({names})")
+    })?;
     let map = args.load()?;
     let p = host_sim::run::plan::plan(&map, kind, start)
         .map_err(|e| format!("{}: {e}", args.map.display()))?;

@@ -130,7 +130,7 @@ pub fn paper_table2(
         BaStar => 0,
         BTheta => 2,
         BOha => 4,
-        BOhaPc => return None,
+        BOhaPc | Template | MarkBacktrack | Binn => return None,
     } + usize::from(wide);
     PAPER_TABLE2
         .iter()
@@ -245,7 +245,7 @@ pub fn table2(
     mut each: impl FnMut(&str, usize, &crate::io::maps::MapData, &crate::run::plan::Plan),
     mut progress: impl FnMut(usize, usize),
 ) -> Result<Vec<(&'static str, robovac::coverage::PlannerKind, Table2Agg)>, String> {
-    use crate::run::plan::{new_planner, plan_on, ALL_PLANNERS};
+    use crate::run::plan::{new_planner, plan_on, SEED000_PLANNERS as ALL_PLANNERS};
     let mut out = Vec::new();
     let mut planners: Vec<_> = ALL_PLANNERS.iter().map(|&k| new_planner(k)).collect();
     let mut grid = crate::capacity::new_grid();

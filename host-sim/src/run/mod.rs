@@ -2,6 +2,7 @@
 //! suites, measured. Uses `io`, `sim`, `report` and `capacity`.
 
 pub mod bench;
+pub mod coverage_bench;
 pub mod dock;
 pub mod drive;
 pub mod engines;

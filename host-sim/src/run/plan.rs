@@ -31,13 +31,21 @@ pub fn planner_by_name(s: &str) -> Option<PlannerKind> {
     ALL_PLANNERS.iter().copied().find(|k| k.name() == s)
 }
 
-/// Every planner, baselines first.
-pub const ALL_PLANNERS: [PlannerKind; 4] = [
+/// Seed 000's planners (its Table 2), baselines first.
+pub const SEED000_PLANNERS: [PlannerKind; 4] = [
     PlannerKind::BaStar,
     PlannerKind::BTheta,
     PlannerKind::BOha,
     PlannerKind::BOhaPc,
 ];
+
+/// Every coverage planner ([`PlannerKind::ALL`]).
+pub const ALL_PLANNERS: [PlannerKind; 7] = PlannerKind::ALL;
+
+/// The planners' command-line names, comma-separated (for messages).
+pub fn planner_names() -> String {
+    ALL_PLANNERS.map(|k| k.name()).join(", ")
+}
 
 /// A segment of the output polyline: waypoints `from..=to`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -6,3 +6,6 @@ pub mod b_oha;
 pub mod b_oha_pc;
 pub mod b_theta;
 pub mod ba_star;
+pub mod binn;
+pub mod mark_backtrack;
+pub mod template;
