@@ -5,12 +5,15 @@
 mod common;
 
 use common::*;
-use robovac::coverage::planners::{binn, mark_backtrack, template};
+use proptest::prelude::*;
+use robovac::coverage::planners::{bcd, binn, mark_backtrack, stc, template, wavefront};
+use robovac::coverage::CoverageError;
 use robovac::coverage::{BacktrackList, Coverage, PlannerKind, Step};
 use robovac::grid::Layer;
 use robovac::Cell;
+use std::collections::VecDeque;
 
-type TCoverage = Coverage<CELLS, W, CELLS, 256, 1024>;
+type TCoverage = Coverage<CELLS, W, CELLS, 256, 1024, CELLS>;
 
 fn grid(ascii: &str) -> Box<TGrid> {
     let mut g = Box::new(TGrid::new());
@@ -133,4 +136,172 @@ fn binn_goes_straight_and_turns_toward_more_activity() {
     g.set_obstacle(2, 3, true).unwrap();
     g.set_obstacle(2, 1, true).unwrap();
     assert_eq!(binn::next_move(&*g, c, (1, 0), &pri), Some(Cell::new(1, 2)));
+}
+
+/// A random map of `w` × `h` cells, `density` % blocked (single cells).
+fn random_grid(w: u32, h: u32, density: u32, seed: u64) -> Box<TGrid> {
+    let mut g = Box::new(TGrid::new());
+    g.reset(w, h).unwrap();
+    let mut s = seed | 1;
+    for y in 0..h as i32 {
+        for x in 0..w as i32 {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            if (s % 100) < density as u64 {
+                g.set_obstacle(x, y, true).unwrap();
+            }
+        }
+    }
+    g
+}
+
+/// An independent 4-connected BFS from `s` (None where unreached).
+fn bfs(g: &TGrid, s: Cell) -> Vec<Option<u32>> {
+    let (w, h) = (g.width() as i32, g.height() as i32);
+    let mut d = vec![None; (w * h) as usize];
+    let mut q = VecDeque::new();
+    d[(s.y as i32 * w + s.x as i32) as usize] = Some(0);
+    q.push_back((s.x as i32, s.y as i32));
+    while let Some((x, y)) = q.pop_front() {
+        let v = d[(y * w + x) as usize].unwrap();
+        for (dx, dy) in [(1, 0), (-1, 0), (0, 1), (0, -1)] {
+            let (nx, ny) = (x + dx, y + dy);
+            if free(g, nx, ny) && d[(ny * w + nx) as usize].is_none() {
+                d[(ny * w + nx) as usize] = Some(v + 1);
+                q.push_back((nx, ny));
+            }
+        }
+    }
+    d
+}
+
+/// Every cover move of a whole run: (moves, transit moves).
+fn run_all(g: &mut TGrid, kind: PlannerKind, start: Cell) -> (Vec<Cell>, usize) {
+    let mut p: Box<TCoverage> = Box::new(TCoverage::new(kind));
+    let mut cover = Vec::new();
+    let mut transit = 0;
+    p.run(g, start, |w| {
+        if w.kind == robovac::verify::metrics::SegmentKind::Cover {
+            cover.push(w.to);
+        } else {
+            transit += 1;
+        }
+    })
+    .unwrap();
+    (cover, transit)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(150))]
+    /// The wavefront's raster passes give the BFS step distance exactly.
+    #[test]
+    fn wavefront_transform_is_the_bfs_distance(w in 1u32..40, h in 1u32..40, density in 0u32..45, seed in any::<u64>(), pick in any::<u32>()) {
+        let g = random_grid(w, h, density, seed);
+        let frees: Vec<Cell> = (0..w * h).map(|i| Cell::new((i % w) as u16, (i / w) as u16)).filter(|c| free(&g, c.x as i32, c.y as i32)).collect();
+        prop_assume!(!frees.is_empty());
+        let goal = frees[pick as usize % frees.len()];
+        let mut field = vec![0u16; (w * h) as usize];
+        wavefront::build(&*g, &mut field, goal);
+        for (i, d) in bfs(&g, goal).iter().enumerate() {
+            prop_assert_eq!(u32::from(field[i]), d.unwrap_or(u32::from(wavefront::UNREACHED)));
+        }
+    }
+
+    /// On maps made of whole 2 × 2 blocks, spanning-tree coverage visits
+    /// every cell of the start's group exactly once, with no transit.
+    #[test]
+    fn stc_visits_each_cell_of_whole_blocks_once(mw in 1u32..12, mh in 1u32..12, density in 0u32..40, seed in any::<u64>()) {
+        let blocks = random_grid(mw, mh, density, seed);
+        let mut g = Box::new(TGrid::new());
+        g.reset(2 * mw, 2 * mh).unwrap();
+        for y in 0..2 * mh as i32 {
+            for x in 0..2 * mw as i32 {
+                g.set_obstacle(x, y, blocks.is_blocked(x / 2, y / 2)).unwrap();
+            }
+        }
+        let Some(start) = (0..4 * mw * mh).map(|i| Cell::new((i % (2 * mw)) as u16, (i / (2 * mw)) as u16)).find(|c| free(&g, c.x as i32, c.y as i32)) else {
+            return Ok(());
+        };
+        let reach = bfs(&g, start).iter().filter(|d| d.is_some()).count();
+        let (cover, transit) = run_all(&mut g, PlannerKind::Stc, start);
+        prop_assert_eq!(transit, 0);
+        prop_assert_eq!(cover.len() + 1, reach);
+        let mut seen = std::collections::HashSet::new();
+        seen.insert(start);
+        for c in &cover {
+            prop_assert!(seen.insert(*c), "{:?} visited twice", c);
+        }
+    }
+
+    /// Every decomposition cell is one run per column, its runs in
+    /// consecutive columns, each overlapping the next.
+    #[test]
+    fn bcd_cells_are_monotone_stacks_of_runs(w in 1u32..40, h in 1u32..40, density in 0u32..45, seed in any::<u64>()) {
+        let g = random_grid(w, h, density, seed);
+        let mut field = vec![0u16; (w * h) as usize];
+        bcd::build(&*g, &mut field);
+        let mut runs: std::collections::BTreeMap<u16, Vec<(i32, i32, i32)>> = Default::default();
+        for x in 0..w as i32 {
+            for y in 0..h as i32 {
+                let l = bcd::label(&*g, &field, x, y);
+                prop_assert_eq!(l == 0, !free(&g, x, y));
+                if l == 0 { continue; }
+                let v = runs.entry(l).or_default();
+                match v.last_mut() {
+                    Some((cx, _, b)) if *cx == x && *b == y - 1 => *b = y,
+                    _ => v.push((x, y, y)),
+                }
+            }
+        }
+        for v in runs.values() {
+            for pair in v.windows(2) {
+                let ((x0, a0, b0), (x1, a1, b1)) = (pair[0], pair[1]);
+                prop_assert_eq!(x1, x0 + 1, "one run per column, columns consecutive");
+                prop_assert!(a1 <= b0 && a0 <= b1, "consecutive runs overlap");
+            }
+        }
+    }
+}
+
+#[test]
+fn wavefront_sweeps_the_far_end_first_and_ends_near_the_start() {
+    let mut g = grid("........\n........\n");
+    let (cover, _) = run_all(&mut g, PlannerKind::Wavefront, Cell::new(0, 0));
+    // Both neighbours of the start are one step away: the order N, S, E,
+    // W breaks the tie. Then the highest value leads east along row 1, to
+    // the far end, and the sweep comes back along row 0 to the start.
+    assert_eq!(cover.first(), Some(&Cell::new(0, 1)));
+    assert_eq!(cover.len(), 15);
+    assert_eq!(cover[7], Cell::new(7, 1));
+    assert_eq!(cover.last(), Some(&Cell::new(1, 0)));
+}
+
+#[test]
+fn bcd_splits_around_an_island_into_four_cells() {
+    let g = grid("......\n......\n..##..\n......\n......\n");
+    let mut field = vec![0u16; 30];
+    bcd::build(&*g, &mut field);
+    let l = |x, y| bcd::label(&*g, &field, x, y);
+    // West of the island, above it, below it, east of it.
+    assert_eq!((l(0, 0), l(1, 4)), (1, 1));
+    assert_eq!((l(2, 0), l(3, 1)), (2, 2));
+    assert_eq!((l(2, 3), l(3, 4)), (3, 3));
+    assert_eq!((l(4, 2), l(5, 0)), (4, 4));
+}
+
+#[test]
+fn field_planners_refuse_a_build_without_a_field() {
+    let mut g = grid(OPEN);
+    for kind in [PlannerKind::Wavefront, PlannerKind::Stc, PlannerKind::Bcd] {
+        let mut p: Box<Coverage<CELLS, W, CELLS, 256, 1024>> = Box::new(Coverage::new(kind));
+        assert_eq!(
+            p.start(&mut *g, Cell::new(0, 0)),
+            Err(CoverageError::NoField)
+        );
+    }
+    let mut p: Box<Coverage<CELLS, W, CELLS, 256, 1024>> =
+        Box::new(Coverage::new(PlannerKind::Binn));
+    assert!(p.start(&mut *g, Cell::new(0, 0)).is_ok());
+    let _ = stc::RULES;
 }

@@ -638,3 +638,92 @@ fn drive_and_lidar_decode() {
         assert_eq!(out.status.code(), Some(2), "{args:?}");
     }
 }
+
+#[test]
+fn bench_coverage_runs_every_planner_and_checks_each_plan() {
+    let dir = test_support::temp_dir("bench_coverage");
+    let json_path = dir.join("cov.json");
+    let svg_dir = dir.join("svg");
+    let out = bin()
+        .args([
+            "bench",
+            "coverage",
+            "--maps",
+            "maps/flat/studio.txt,maps/movingai/maze49.map",
+        ])
+        .args(["--json", json_path.to_str().unwrap()])
+        .args(["--svg-dir", svg_dir.to_str().unwrap()])
+        .current_dir(repo())
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json_path).unwrap()).unwrap();
+    let rows = doc["rows"].as_array().unwrap();
+    let names = robovac::coverage::PlannerKind::ALL.map(|k| k.name());
+    assert_eq!(rows.len(), 2 * names.len());
+    for r in rows {
+        // The independent checker found every move legal and no cell missed.
+        assert_eq!(r["valid"], true, "{r}");
+        assert_eq!(r["metrics"]["coverage"], 1.0, "{r}");
+        let name = r["planner"].as_str().unwrap();
+        assert!(names.contains(&name));
+        let svg = svg_dir.join(format!("{}.{name}.svg", r["map"].as_str().unwrap()));
+        assert!(std::fs::read_to_string(svg).unwrap().starts_with("<svg"));
+    }
+    // A table per map with the best marked, and the summary.
+    assert_eq!(text.matches("complete").count(), 2 * names.len() + 1);
+    assert!(text.contains("summary over 2 maps") && text.contains('*'));
+    for bad in [
+        vec![
+            "bench",
+            "coverage",
+            "--maps",
+            "maps/flat/studio.txt",
+            "--planners",
+            "nope",
+        ],
+        vec![
+            "bench",
+            "coverage",
+            "--maps",
+            "maps/flat/studio.txt",
+            "--cell",
+            "0",
+        ],
+        vec!["bench", "coverage", "--maps", "/nonexistent/x.map"],
+    ] {
+        let out = bin().args(&bad).current_dir(repo()).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{bad:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{bad:?}: {err}");
+    }
+}
+
+#[test]
+fn field_planners_are_refused_at_the_firmwares_capacity() {
+    let out = bin()
+        .args([
+            "mission",
+            "--map",
+            "maps/flat/studio.txt",
+            "--planner",
+            "stc",
+            "--capacity",
+            "fw",
+        ])
+        .current_dir(repo())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("stc") && err.trim().lines().count() == 1,
+        "{err}"
+    );
+}

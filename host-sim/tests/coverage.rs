@@ -360,7 +360,7 @@ fn lending_the_search_state_mid_search_changes_nothing() {
 fn full_list_keeps_coverage_complete() {
     // A backtracking list of 4 points overflows constantly; the rescan
     // policy still covers everything.
-    type Tiny = Coverage<4096, 128, 4096, 4, 4096>;
+    type Tiny = Coverage<4096, 128, 4096, 4, 4096, 4096>;
     let mut rng = robovac::grid::maps::SplitMix64::new(3);
     for kind in ALL_PLANNERS {
         let (map, start) = host_sim::run::bench::table2_instance(

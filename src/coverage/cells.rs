@@ -27,6 +27,52 @@ pub fn is_corner<const GW: usize>(grid: &Grid<GW>, x: i32, y: i32) -> bool {
     !((u(0, -1) && u(0, 1)) || (u(1, 0) && u(-1, 0)))
 }
 
+/// The free, uncovered 4-neighbours of `cur` in `priority` order, each
+/// with its move (dx, dy): the candidates of every local move rule.
+pub fn open_moves<'a, const GW: usize>(
+    grid: &'a Grid<GW>,
+    cur: Cell,
+    priority: &'a [(i32, i32); 4],
+) -> impl Iterator<Item = ((i32, i32), Cell)> + 'a {
+    let (x, y) = cur.xy();
+    priority.iter().filter_map(move |&(dx, dy)| {
+        if uncovered(grid, x + dx, y + dy) {
+            Cell::from_xy(x + dx, y + dy).map(|c| ((dx, dy), c))
+        } else {
+            None
+        }
+    })
+}
+
+/// The candidate of highest `score`, the first in order among equals.
+pub fn best_move<S: PartialOrd>(
+    moves: impl Iterator<Item = ((i32, i32), Cell)>,
+    score: impl Fn((i32, i32), Cell) -> S,
+) -> Option<Cell> {
+    let mut best: Option<(S, Cell)> = None;
+    for (d, c) in moves {
+        let s = score(d, c);
+        if best.as_ref().is_none_or(|(b, _)| s > *b) {
+            best = Some((s, c));
+        }
+    }
+    best.map(|(_, c)| c)
+}
+
+/// Of the points of the best (least) `rank`, the one nearest to `from`
+/// (squared Euclidean distance); ties keep list order.
+pub fn nearest_of_best_rank(
+    points: &[Cell],
+    from: Cell,
+    rank: impl Fn(Cell) -> u32,
+) -> Option<Cell> {
+    let d2 = |c: Cell| {
+        let (dx, dy) = (c.x as i64 - from.x as i64, c.y as i64 - from.y as i64);
+        dx * dx + dy * dy
+    };
+    points.iter().copied().min_by_key(|&c| (rank(c), d2(c)))
+}
+
 /// Copies into `out` the `k` points nearest to `from` (squared Euclidean
 /// distance; ties keep list order), nearest first. Returns how many.
 pub fn nearest_k(points: &[Cell], from: Cell, out: &mut [Cell], k: usize) -> usize {

@@ -67,7 +67,9 @@ use crate::grid::{Cell, Grid, Layer};
 use crate::search::prune::prune;
 use crate::search::{Progress, SearchError, SearchState, MAX_GOALS};
 use crate::verify::metrics::SegmentKind;
-use planners::{b_oha, b_oha_pc, b_theta, ba_star, binn, mark_backtrack, template};
+use planners::{
+    b_oha, b_oha_pc, b_theta, ba_star, bcd, binn, mark_backtrack, stc, template, wavefront,
+};
 use rules::{ListRule, LocalMove, Priority, Rules};
 
 /// The coverage planners.
@@ -90,12 +92,18 @@ pub enum PlannerKind {
     MarkBacktrack,
     /// The bio-inspired neural network, seed 004 (ALGORITHMS.md §5).
     Binn,
+    /// Wavefront coverage, seed 004 (ALGORITHMS.md §5).
+    Wavefront,
+    /// Spanning-tree coverage, seed 004 (ALGORITHMS.md §5).
+    Stc,
+    /// Boustrophedon cell decomposition, seed 004 (ALGORITHMS.md §5).
+    Bcd,
 }
 
 impl PlannerKind {
     /// Every coverage planner: seed 000's (baselines first), then seeds
     /// 001, 002 and 004's.
-    pub const ALL: [PlannerKind; 7] = [
+    pub const ALL: [PlannerKind; 10] = [
         PlannerKind::BaStar,
         PlannerKind::BTheta,
         PlannerKind::BOha,
@@ -103,6 +111,9 @@ impl PlannerKind {
         PlannerKind::MarkBacktrack,
         PlannerKind::Template,
         PlannerKind::Binn,
+        PlannerKind::Wavefront,
+        PlannerKind::Stc,
+        PlannerKind::Bcd,
     ];
 
     /// The name used on the command line.
@@ -115,6 +126,9 @@ impl PlannerKind {
             PlannerKind::Template => "template",
             PlannerKind::MarkBacktrack => "mark-backtrack",
             PlannerKind::Binn => "binn",
+            PlannerKind::Wavefront => "wavefront",
+            PlannerKind::Stc => "stc",
+            PlannerKind::Bcd => "bcd",
         }
     }
 
@@ -128,6 +142,9 @@ impl PlannerKind {
             PlannerKind::Template => template::RULES,
             PlannerKind::MarkBacktrack => mark_backtrack::RULES,
             PlannerKind::Binn => binn::RULES,
+            PlannerKind::Wavefront => wavefront::RULES,
+            PlannerKind::Stc => stc::RULES,
+            PlannerKind::Bcd => bcd::RULES,
         }
     }
 }
@@ -145,7 +162,9 @@ enum Phase {
 
 /// The coverage planner. `N`, `NW`, `OPEN` size its search state (see
 /// [`SearchState`]), `LCAP` the backtracking list, `PCAP` the transit path
-/// buffer. All memory is inline; nothing is allocated.
+/// buffer, `F` the per-cell field of the planners that keep a value per
+/// cell (wavefront, STC, BCD: 2 bytes a cell; 0, the default, leaves them
+/// out). All memory is inline; nothing is allocated.
 ///
 /// Like [`SearchState`], every field is an integer, an array of integers or
 /// a `#[repr(u8)]` enum whose discriminant 0 is a variant, so all-zero bytes
@@ -157,6 +176,7 @@ pub struct Coverage<
     const OPEN: usize,
     const LCAP: usize,
     const PCAP: usize,
+    const F: usize = 0,
 > {
     kind: PlannerKind,
     search: SearchState<N, NW, OPEN>,
@@ -181,10 +201,21 @@ pub struct Coverage<
     /// different one means the state was lent out meanwhile
     /// ([`Coverage::search_state_mut`]) and the transit search begins again.
     query: u32,
+    /// Where the run started: the wavefront's goal.
+    origin: Cell,
+    /// The per-cell field: a distance transform, a spanning forest or the
+    /// decomposition's labels, by planner.
+    field: [u16; F],
 }
 
-impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, const PCAP: usize>
-    Coverage<N, NW, OPEN, LCAP, PCAP>
+impl<
+        const N: usize,
+        const NW: usize,
+        const OPEN: usize,
+        const LCAP: usize,
+        const PCAP: usize,
+        const F: usize,
+    > Coverage<N, NW, OPEN, LCAP, PCAP, F>
 {
     /// A planner of the given kind (usable in a `static`).
     pub const fn new(kind: PlannerKind) -> Self {
@@ -216,6 +247,8 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
             },
             last_step_nodes: 0,
             query: 0,
+            origin: Cell::new(0, 0),
+            field: [0; F],
         }
     }
 
@@ -326,6 +359,9 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
         start: Cell,
     ) -> Result<(), CoverageError> {
         Self::check_start(grid, start)?;
+        if self.kind.rules().local.needs_field() && grid.cells() > F {
+            return Err(CoverageError::NoField);
+        }
         let (x, y) = start.xy();
         self.list.reset();
         self.path_len = 0;
@@ -333,12 +369,14 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
         self.goal_count = 0;
         self.stats = PlanStats::default();
         self.cur = start;
+        self.origin = start;
         self.heading = (0, 0);
         self.priority = match self.kind.rules().priority {
             Priority::ByAspect => b_oha::priority(grid),
             Priority::Fixed(p) => p,
         };
         let _ = grid.set(Layer::Covered, x, y, true);
+        self.build_field(grid);
         self.on_arrive(grid);
         self.new_segment = true;
         self.phase = Phase::Local;
@@ -432,6 +470,7 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
     ) -> Result<Option<Step>, CoverageError> {
         self.drop_stale(grid);
         if self.list.is_empty() {
+            self.build_field(grid);
             self.rescan(grid);
         }
         if self.list.is_empty() {
@@ -582,17 +621,18 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
             LocalMove::LeastTurn => {
                 return binn::next_move(grid, self.cur, self.heading(), &self.priority)
             }
+            LocalMove::Wavefront => {
+                return wavefront::next_move(grid, &self.field, self.cur, &self.priority)
+            }
+            LocalMove::SpanningTree => return stc::next_move(grid, &self.field, self.cur),
+            LocalMove::CellSweep => {
+                return bcd::next_move(grid, &self.field, self.cur, &self.priority)
+            }
             LocalMove::Priority => {}
         }
-        let (x, y) = self.cur.xy();
-        self.priority.iter().find_map(|&(dx, dy)| {
-            let (nx, ny) = (x + dx, y + dy);
-            if uncovered(grid, nx, ny) {
-                Cell::from_xy(nx, ny)
-            } else {
-                None
-            }
-        })
+        cells::open_moves(grid, self.cur, &self.priority)
+            .next()
+            .map(|(_, c)| c)
     }
 
     /// Marks the cells of the segment cur → to covered, takes them off
@@ -614,6 +654,16 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
             }
             true
         });
+    }
+
+    /// (Re)builds the per-cell field of the planners that keep one.
+    fn build_field<const GW: usize>(&mut self, grid: &Grid<GW>) {
+        match self.kind.rules().local {
+            LocalMove::Wavefront => wavefront::build(grid, &mut self.field, self.origin),
+            LocalMove::SpanningTree => stc::build(grid, &mut self.field, self.cur),
+            LocalMove::CellSweep => bcd::build(grid, &mut self.field),
+            LocalMove::Priority | LocalMove::PocketsFirst | LocalMove::LeastTurn => {}
+        }
     }
 
     /// The direction of the last move as (dx, dy) unit steps.

@@ -24,6 +24,26 @@ pub enum LocalMove {
     /// The neighbour the bio-inspired network's activity and turn term
     /// rank first (seed 004's BINN, [`super::planners::binn`]).
     LeastTurn,
+    /// The unvisited neighbour farthest from the start by the distance
+    /// transform in the field (seed 004's wavefront,
+    /// [`super::planners::wavefront`]).
+    Wavefront,
+    /// Around the spanning tree of 2 × 2 mega-cells in the field (seed
+    /// 004's STC, [`super::planners::stc`]).
+    SpanningTree,
+    /// Boustrophedon inside the robot's decomposition cell, labelled in the
+    /// field (seed 004's BCD, [`super::planners::bcd`]).
+    CellSweep,
+}
+
+impl LocalMove {
+    /// Whether the rule keeps a value per cell in the planner's field.
+    pub const fn needs_field(self) -> bool {
+        matches!(
+            self,
+            LocalMove::Wavefront | LocalMove::SpanningTree | LocalMove::CellSweep
+        )
+    }
 }
 
 /// What enters the backtracking list, and when it is trimmed.

@@ -41,6 +41,9 @@ pub enum CoverageError {
     Search(SearchError),
     /// A transit path is longer than the path buffer `PCAP`.
     PathTooLong,
+    /// The planner keeps a value per cell (wavefront, STC, BCD) and this
+    /// build's field (`F`) is smaller than the map.
+    NoField,
 }
 
 impl CoverageError {
@@ -51,6 +54,9 @@ impl CoverageError {
             CoverageError::NotStarted => "planner not started",
             CoverageError::Search(e) => e.as_str(),
             CoverageError::PathTooLong => "transit path exceeds the path buffer",
+            CoverageError::NoField => {
+                "this planner needs a per-cell field larger than this build's"
+            }
         }
     }
 }

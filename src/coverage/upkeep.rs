@@ -3,14 +3,20 @@
 //! module docs of [`super`]), and the goals of the next transit.
 
 use super::cells::{self, nearest_k, uncovered};
-use super::planners::{ba_star, mark_backtrack};
-use super::rules::ListRule;
+use super::planners::{ba_star, bcd, mark_backtrack};
+use super::rules::{ListRule, LocalMove};
 use super::Coverage;
 use crate::grid::{Cell, Grid, Layer};
 use crate::search::Algo;
 
-impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, const PCAP: usize>
-    Coverage<N, NW, OPEN, LCAP, PCAP>
+impl<
+        const N: usize,
+        const NW: usize,
+        const OPEN: usize,
+        const LCAP: usize,
+        const PCAP: usize,
+        const F: usize,
+    > Coverage<N, NW, OPEN, LCAP, PCAP, F>
 {
     /// Drops points that became obstacles or are no longer worth visiting
     /// under the planner's own rule.
@@ -43,13 +49,20 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
     }
 
     /// The completeness fallback: refills the list with the uncovered
-    /// corner cells of every uncovered region (see the module docs).
+    /// corner cells of every uncovered region (see the module docs); for
+    /// BCD, of every decomposition cell's uncovered part.
     pub(super) fn rescan<const GW: usize>(&mut self, grid: &Grid<GW>) {
         let (w, h) = (grid.width() as i32, grid.height() as i32);
+        let by_cell = self.kind.rules().local == LocalMove::CellSweep;
         let mut found = false;
         for y in 0..h {
             for x in 0..w {
-                if !uncovered(grid, x, y) || !cells::is_corner(grid, x, y) {
+                let corner = if by_cell {
+                    bcd::is_cell_corner(grid, &self.field, x, y)
+                } else {
+                    cells::is_corner(grid, x, y)
+                };
+                if !uncovered(grid, x, y) || !corner {
                     continue;
                 }
                 let Some(i) = grid.index(x, y) else { continue };
@@ -75,8 +88,24 @@ impl<const N: usize, const NW: usize, const OPEN: usize, const LCAP: usize, cons
     /// points first ([`mark_backtrack::choose`]).
     pub(super) fn choose_goals<const GW: usize>(&mut self, grid: &Grid<GW>) -> Algo {
         let rules = self.kind.rules();
-        if rules.list == ListRule::Marks {
-            let goal = mark_backtrack::choose(self.list.as_slice(), grid, self.cur);
+        let ranked = match (rules.list, rules.local) {
+            (ListRule::Marks, _) => {
+                Some(mark_backtrack::choose(self.list.as_slice(), grid, self.cur))
+            }
+            (_, LocalMove::CellSweep) => {
+                let here = bcd::label(grid, &self.field, self.cur.x as i32, self.cur.y as i32);
+                let rank = |c: Cell| {
+                    u32::from(bcd::label(grid, &self.field, c.x as i32, c.y as i32) != here)
+                };
+                Some(cells::nearest_of_best_rank(
+                    self.list.as_slice(),
+                    self.cur,
+                    rank,
+                ))
+            }
+            _ => None,
+        };
+        if let Some(goal) = ranked {
             self.goal_count = 0;
             if let (Some(g), Some(slot)) = (goal, self.goals.first_mut()) {
                 *slot = g;

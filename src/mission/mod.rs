@@ -82,13 +82,13 @@
 //! `cover`, `edge`, `home`, `recover` and `avoid` its parts; `lidar` the
 //! lidar event.
 
-/// An impl for buffers of every size: the header with its eight const
+/// An impl for buffers of every size: the header with its nine const
 /// generics written once. `sized_impl!([Trait for Type] { items })`, or
 /// `sized_impl!([] { items })` for the planning side's methods on
 /// [`Exec`] over [`Parts`].
 macro_rules! sized_impl {
     ([] $($body:tt)*) => {
-        sized_impl!([$crate::mission::Exec<'_, '_, $crate::mission::Parts<'_, N, NW, OPEN, LCAP, PCAP, FW, EV, MW>>] $($body)*);
+        sized_impl!([$crate::mission::Exec<'_, '_, $crate::mission::Parts<'_, N, NW, OPEN, LCAP, PCAP, FW, EV, MW, CF>>] $($body)*);
     };
     ([$($head:tt)*] { $($body:tt)* }) => {
         impl<
@@ -100,6 +100,7 @@ macro_rules! sized_impl {
                 const FW: usize,
                 const EV: usize,
                 const MW: usize,
+                const CF: usize,
             > $($head)*
         {
             $($body)*

@@ -1,6 +1,6 @@
 //! The big buffers the executive works in, owned by the caller, and the
 //! [`MissionParts`] trait through which the entry points take them, so an
-//! entry point names one type parameter instead of eight const generics.
+//! entry point names one type parameter instead of nine const generics.
 
 use super::{Exec, Mission};
 use crate::coverage::{Coverage, PlanStats};
@@ -26,9 +26,10 @@ pub struct Parts<
     const FW: usize,
     const EV: usize,
     const MW: usize,
+    const CF: usize,
 > {
     /// The coverage planner (on the planning cells).
-    pub planner: &'a mut Coverage<N, NW, OPEN, LCAP, PCAP>,
+    pub planner: &'a mut Coverage<N, NW, OPEN, LCAP, PCAP, CF>,
     /// The fine-grid searches (detours, edge transits, the way home),
     /// bounded to a window of `N` fine cells; they run on the planner's
     /// search state, lent ([`Coverage::search_state_mut`]), so `N` is the
@@ -112,7 +113,7 @@ pub struct PlannerView {
     pub list_len: usize,
 }
 
-sized_impl!([Parts<'_, N, NW, OPEN, LCAP, PCAP, FW, EV, MW>] {
+sized_impl!([Parts<'_, N, NW, OPEN, LCAP, PCAP, FW, EV, MW, CF>] {
     /// Where the progress image starts: after the map image of this map.
     fn progress_at(&self) -> u32 {
         let n = crate::robot::map_image::HEADER_BYTES + self.map.cell_bytes().len() as u32;
@@ -120,7 +121,7 @@ sized_impl!([Parts<'_, N, NW, OPEN, LCAP, PCAP, FW, EV, MW>] {
     }
 });
 
-sized_impl!([MissionParts for Parts<'_, N, NW, OPEN, LCAP, PCAP, FW, EV, MW>] {
+sized_impl!([MissionParts for Parts<'_, N, NW, OPEN, LCAP, PCAP, FW, EV, MW, CF>] {
     fn begin(&mut self, m: &mut Mission, start: Pose) {
         Exec { m, p: self }.begin(start);
     }

@@ -119,6 +119,12 @@ pub enum BenchCmd {
         #[arg(long)]
         svg_dir: Option<PathBuf>,
     },
+    /// The seeds' own experiments (seeds 001, 002, 003) beside the numbers they report.
+    Seeds {
+        /// Write the figures as JSON.
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
     /// Wheel speed step response to 0.3 m/s (rise time, overshoot, steady-state error).
     WheelStep {
         #[arg(long, default_value_t = 1)]
@@ -223,6 +229,7 @@ pub fn run(which: BenchCmd) -> Result<(), String> {
             json,
             svg_dir,
         }),
+        BenchCmd::Seeds { json } => super::bench_seeds::run(json),
         BenchCmd::WheelStep { seed } => cmd_wheel_step(seed),
     }
 }

@@ -41,8 +41,8 @@ pub struct Args {
     /// The dock X,Y in metres (default: a free spot near the centre).
     #[arg(long, value_parser = parse_point)]
     pub start: Option<(f64, f64)>,
-    /// b-oha, ba, b-theta, b-oha-pc (ours), mark-backtrack, template or
-    /// binn.
+    /// b-oha, ba, b-theta, b-oha-pc (ours), mark-backtrack, template,
+    /// binn, wavefront, stc or bcd.
     #[arg(long, default_value = "b-oha")]
     pub planner: String,
     /// Silence the lidar from A to B seconds (A,B) to exercise the fault.
@@ -184,8 +184,17 @@ pub fn run(a: Args) -> Result<(), String> {
 /// The command line, checked, as the mission's options.
 fn options(a: &Args) -> Result<MissionOptions, String> {
     check_times(a)?;
-    let kind = host_sim::run::plan::planner_by_name(&a.planner)
-        .ok_or_else(|| format!("unknown planner {:?}", a.planner))?;
+    let kind = host_sim::run::plan::planner_by_name(&a.planner).ok_or_else(|| {
+        let names = host_sim::run::plan::planner_names();
+        format!("unknown planner {:?} ({names})", a.planner)
+    })?;
+    if matches!(a.capacity, host_sim::run::parts::Capacity::Fw) && kind.rules().local.needs_field()
+    {
+        return Err(format!(
+            "planner {} keeps 2 bytes per planning cell, which the firmware's capacity leaves out (use another planner, or the host's capacity)",
+            kind.name()
+        ));
+    }
     if !(a.max_time.is_finite() && a.max_time > 0.0) {
         return Err("--max-time must be a positive number of seconds".into());
     }

@@ -8,6 +8,7 @@ pub mod bench_coverage;
 pub mod bench_missions;
 pub mod bench_peers;
 pub mod bench_replan;
+pub mod bench_seeds;
 pub mod demo;
 pub mod drive;
 pub mod lidar;

@@ -9,8 +9,8 @@ use robovac::Cell;
 pub struct Args {
     #[command(flatten)]
     pub map: MapArgs,
-    /// b-oha, ba, b-theta, b-oha-pc (ours), mark-backtrack, template or
-    /// binn.
+    /// b-oha, ba, b-theta, b-oha-pc (ours), mark-backtrack, template,
+    /// binn, wavefront, stc or bcd.
     #[arg(long, default_value = "b-oha")]
     pub planner: String,
     /// Start cell X,Y (default: the first free cell in reading order).

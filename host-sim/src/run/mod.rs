@@ -21,4 +21,5 @@ pub mod power_loss;
 pub mod replan;
 mod report_json;
 pub mod rooms;
+pub mod seeds;
 pub mod suite;

@@ -13,7 +13,8 @@ use crate::capacity::{
 use crate::io::maps::MapData;
 
 /// The host coverage planner.
-pub type HostCoverage = Coverage<HOST_CELLS, HOST_WORDS, HOST_OPEN, HOST_LCAP, HOST_PCAP>;
+pub type HostCoverage =
+    Coverage<HOST_CELLS, HOST_WORDS, HOST_OPEN, HOST_LCAP, HOST_PCAP, HOST_CELLS>;
 
 /// A host planner on the heap, without building it on the stack.
 pub fn new_planner(kind: PlannerKind) -> Box<HostCoverage> {
@@ -40,7 +41,7 @@ pub const SEED000_PLANNERS: [PlannerKind; 4] = [
 ];
 
 /// Every coverage planner ([`PlannerKind::ALL`]).
-pub const ALL_PLANNERS: [PlannerKind; 7] = PlannerKind::ALL;
+pub const ALL_PLANNERS: [PlannerKind; 10] = PlannerKind::ALL;
 
 /// The planners' command-line names, comma-separated (for messages).
 pub fn planner_names() -> String {

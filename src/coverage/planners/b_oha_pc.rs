@@ -26,7 +26,7 @@
 //! small inline queue (no map-sized memory).
 
 use super::b_oha;
-use crate::coverage::cells::uncovered;
+use crate::coverage::cells::{open_moves, uncovered};
 use crate::coverage::rules::{LocalMove, Rules};
 use crate::grid::{Cell, Grid};
 use crate::search::{Algo, MAX_GOALS};
@@ -85,16 +85,8 @@ pub fn next_move<const GW: usize>(
     cur: Cell,
     priority: &[(i32, i32); 4],
 ) -> Option<Cell> {
-    let (x, y) = cur.xy();
     let mut first = None;
-    for &(dx, dy) in priority {
-        let (nx, ny) = (x + dx, y + dy);
-        if !uncovered(grid, nx, ny) {
-            continue;
-        }
-        let Some(n) = Cell::from_xy(nx, ny) else {
-            continue;
-        };
+    for (_, n) in open_moves(grid, cur, priority) {
         if pocket_size(grid, n, cur).is_some() {
             return Some(n);
         }

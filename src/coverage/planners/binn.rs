@@ -28,7 +28,7 @@
 //!   lists every uncovered region's corner cells, and a multi-goal A* with
 //!   the octile heuristic reaches the one nearest by path cost, pruned.
 
-use crate::coverage::cells::{uncovered, E_, N_, S_, W_};
+use crate::coverage::cells::{best_move, open_moves, uncovered, E_, N_, S_, W_};
 use crate::coverage::rules::{ListRule, LocalMove, Priority, Rules};
 use crate::grid::{Cell, Grid};
 use crate::search::{Algo, MAX_GOALS, NEIGHBOURS};
@@ -87,20 +87,8 @@ pub fn next_move<const GW: usize>(
     heading: (i32, i32),
     priority: &[(i32, i32); 4],
 ) -> Option<Cell> {
-    let (x, y) = cur.xy();
-    let mut best: Option<(u32, Cell)> = None;
-    for &(dx, dy) in priority {
-        let (nx, ny) = (x + dx, y + dy);
-        if !uncovered(grid, nx, ny) {
-            continue;
-        }
-        let Some(n) = Cell::from_xy(nx, ny) else {
-            continue;
-        };
-        let score = turn_rank(heading, (dx, dy)) * 4096 + activity_q8(grid, nx, ny);
-        if best.is_none_or(|(s, _)| score > s) {
-            best = Some((score, n));
-        }
-    }
-    best.map(|(_, n)| n)
+    best_move(open_moves(grid, cur, priority), |dir, n| {
+        let (nx, ny) = n.xy();
+        turn_rank(heading, dir) * 4096 + activity_q8(grid, nx, ny)
+    })
 }

@@ -35,7 +35,7 @@
 //!   outside the seed's matrix are, and the planner re-reads the grid at
 //!   every step.
 
-use crate::coverage::cells::{uncovered, E_, N_, S_, W_};
+use crate::coverage::cells::{nearest_of_best_rank, uncovered, E_, N_, S_, W_};
 use crate::coverage::list::BacktrackList;
 use crate::coverage::rules::{ListRule, LocalMove, Priority, Rules};
 use crate::grid::{Cell, Grid, Layer};
@@ -93,12 +93,5 @@ pub fn kind<const GW: usize>(grid: &Grid<GW>, c: Cell) -> u8 {
 /// The goal at a dead point: the nearest point of the best rank
 /// ([`kind`]), straight-line distance, ties in list order.
 pub fn choose<const GW: usize>(points: &[Cell], grid: &Grid<GW>, from: Cell) -> Option<Cell> {
-    let d2 = |c: &Cell| {
-        let (dx, dy) = (c.x as i64 - from.x as i64, c.y as i64 - from.y as i64);
-        dx * dx + dy * dy
-    };
-    points
-        .iter()
-        .copied()
-        .min_by_key(|c| (kind(grid, *c), d2(c)))
+    nearest_of_best_rank(points, from, |c| u32::from(kind(grid, c)))
 }
