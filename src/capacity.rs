@@ -116,7 +116,7 @@ pub const BENCH_PCAP: usize = 1024;
 /// and 50 × 30), 3,200 bytes.
 pub const BENCH_FIELD: usize = 1600;
 /// The emulated run's coverage planner (maps up to 100 × 50; the
-/// wavefront, STC and BCD up to [`BENCH_FIELD`] cells), so every planner is
+/// wavefront, STC, BCD and regions up to [`BENCH_FIELD`] cells), so every planner is
 /// measured on the M4.
 pub type BenchCoverage = crate::coverage::Coverage<
     BENCH_CELLS,

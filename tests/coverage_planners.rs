@@ -6,7 +6,7 @@ mod common;
 
 use common::*;
 use proptest::prelude::*;
-use robovac::coverage::planners::{bcd, binn, mark_backtrack, stc, template, wavefront};
+use robovac::coverage::planners::{bcd, binn, mark_backtrack, regions, stc, template, wavefront};
 use robovac::coverage::CoverageError;
 use robovac::coverage::{BacktrackList, Coverage, PlannerKind, Step};
 use robovac::grid::Layer;
@@ -304,4 +304,35 @@ fn field_planners_refuse_a_build_without_a_field() {
         Box::new(Coverage::new(PlannerKind::Binn));
     assert!(p.start(&mut *g, Cell::new(0, 0)).is_ok());
     let _ = stc::RULES;
+}
+
+#[test]
+fn regions_comb_the_inside_of_a_u_and_spiral_elsewhere() {
+    // A U open to the south stands free; a wall joined to the edge at the
+    // right is boundary, not furniture.
+    let g = grid("..........\n.#####...#\n.#...#...#\n.#...#...#\n.......###\n..........\n");
+    let mut field = vec![0u16; 60];
+    regions::build(&*g, &mut field);
+    let class = |x: i32, y: i32| bcd::label(&*g, &field, x, y);
+    for (x, y) in [(2, 2), (3, 3), (4, 2)] {
+        assert_eq!(class(x, y), regions::COMB_NS, "({x}, {y})");
+    }
+    for (x, y) in [(0, 0), (7, 2), (3, 5), (0, 4)] {
+        assert_eq!(class(x, y), regions::SPIRAL, "({x}, {y})");
+    }
+}
+
+proptest! {
+    /// The pseudo-angle grows with the true angle, counter-clockwise from
+    /// east, and stays within one turn.
+    #[test]
+    fn pseudo_angle_is_monotone_in_the_angle(a in (-200i64..200, -200i64..200), b in (-200i64..200, -200i64..200)) {
+        prop_assume!(a != (0, 0) && b != (0, 0));
+        let t = |p: (i64, i64)| (p.1 as f64).atan2(p.0 as f64).rem_euclid(std::f64::consts::TAU);
+        let (pa, pb) = (regions::pseudo_angle(a.0, a.1), regions::pseudo_angle(b.0, b.1));
+        prop_assert!((0..4096).contains(&pa));
+        if t(a) + 1e-9 < t(b) {
+            prop_assert!(pa <= pb, "{:?} {} vs {:?} {}", a, pa, b, pb);
+        }
+    }
 }

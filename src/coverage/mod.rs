@@ -68,7 +68,7 @@ use crate::search::prune::prune;
 use crate::search::{Progress, SearchError, SearchState, MAX_GOALS};
 use crate::verify::metrics::SegmentKind;
 use planners::{
-    b_oha, b_oha_pc, b_theta, ba_star, bcd, binn, mark_backtrack, stc, template, wavefront,
+    b_oha, b_oha_pc, b_theta, ba_star, bcd, binn, mark_backtrack, regions, stc, template, wavefront,
 };
 use rules::{ListRule, LocalMove, Priority, Rules};
 
@@ -98,12 +98,15 @@ pub enum PlannerKind {
     Stc,
     /// Boustrophedon cell decomposition, seed 004 (ALGORITHMS.md §5).
     Bcd,
+    /// Region decomposition with spiral and comb, seed 003 (ALGORITHMS.md
+    /// §4).
+    Regions,
 }
 
 impl PlannerKind {
     /// Every coverage planner: seed 000's (baselines first), then seeds
     /// 001, 002 and 004's.
-    pub const ALL: [PlannerKind; 10] = [
+    pub const ALL: [PlannerKind; 11] = [
         PlannerKind::BaStar,
         PlannerKind::BTheta,
         PlannerKind::BOha,
@@ -114,6 +117,7 @@ impl PlannerKind {
         PlannerKind::Wavefront,
         PlannerKind::Stc,
         PlannerKind::Bcd,
+        PlannerKind::Regions,
     ];
 
     /// The name used on the command line.
@@ -129,6 +133,7 @@ impl PlannerKind {
             PlannerKind::Wavefront => "wavefront",
             PlannerKind::Stc => "stc",
             PlannerKind::Bcd => "bcd",
+            PlannerKind::Regions => "regions",
         }
     }
 
@@ -145,6 +150,7 @@ impl PlannerKind {
             PlannerKind::Wavefront => wavefront::RULES,
             PlannerKind::Stc => stc::RULES,
             PlannerKind::Bcd => bcd::RULES,
+            PlannerKind::Regions => regions::RULES,
         }
     }
 }
@@ -163,7 +169,7 @@ enum Phase {
 /// The coverage planner. `N`, `NW`, `OPEN` size its search state (see
 /// [`SearchState`]), `LCAP` the backtracking list, `PCAP` the transit path
 /// buffer, `F` the per-cell field of the planners that keep a value per
-/// cell (wavefront, STC, BCD: 2 bytes a cell; 0, the default, leaves them
+/// cell (wavefront, STC, BCD, regions: 2 bytes a cell; 0, the default, leaves them
 /// out). All memory is inline; nothing is allocated.
 ///
 /// Like [`SearchState`], every field is an integer, an array of integers or
@@ -628,6 +634,9 @@ impl<
             LocalMove::CellSweep => {
                 return bcd::next_move(grid, &self.field, self.cur, &self.priority)
             }
+            LocalMove::Regions => {
+                return regions::next_move(grid, &self.field, self.cur, self.heading())
+            }
             LocalMove::Priority => {}
         }
         cells::open_moves(grid, self.cur, &self.priority)
@@ -662,6 +671,7 @@ impl<
             LocalMove::Wavefront => wavefront::build(grid, &mut self.field, self.origin),
             LocalMove::SpanningTree => stc::build(grid, &mut self.field, self.cur),
             LocalMove::CellSweep => bcd::build(grid, &mut self.field),
+            LocalMove::Regions => regions::build(grid, &mut self.field),
             LocalMove::Priority | LocalMove::PocketsFirst | LocalMove::LeastTurn => {}
         }
     }

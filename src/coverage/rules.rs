@@ -34,6 +34,9 @@ pub enum LocalMove {
     /// Boustrophedon inside the robot's decomposition cell, labelled in the
     /// field (seed 004's BCD, [`super::planners::bcd`]).
     CellSweep,
+    /// Comb or inner spiral inside the robot's region, classed in the
+    /// field (seed 003, [`super::planners::regions`]).
+    Regions,
 }
 
 impl LocalMove {
@@ -41,7 +44,10 @@ impl LocalMove {
     pub const fn needs_field(self) -> bool {
         matches!(
             self,
-            LocalMove::Wavefront | LocalMove::SpanningTree | LocalMove::CellSweep
+            LocalMove::Wavefront
+                | LocalMove::SpanningTree
+                | LocalMove::CellSweep
+                | LocalMove::Regions
         )
     }
 }

@@ -41,7 +41,7 @@ pub enum CoverageError {
     Search(SearchError),
     /// A transit path is longer than the path buffer `PCAP`.
     PathTooLong,
-    /// The planner keeps a value per cell (wavefront, STC, BCD) and this
+    /// The planner keeps a value per cell (wavefront, STC, BCD, regions) and this
     /// build's field (`F`) is smaller than the map.
     NoField,
 }

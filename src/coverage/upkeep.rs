@@ -3,7 +3,7 @@
 //! module docs of [`super`]), and the goals of the next transit.
 
 use super::cells::{self, nearest_k, uncovered};
-use super::planners::{ba_star, bcd, mark_backtrack};
+use super::planners::{ba_star, bcd, mark_backtrack, regions};
 use super::rules::{ListRule, LocalMove};
 use super::Coverage;
 use crate::grid::{Cell, Grid, Layer};
@@ -53,7 +53,10 @@ impl<
     /// BCD, of every decomposition cell's uncovered part.
     pub(super) fn rescan<const GW: usize>(&mut self, grid: &Grid<GW>) {
         let (w, h) = (grid.width() as i32, grid.height() as i32);
-        let by_cell = self.kind.rules().local == LocalMove::CellSweep;
+        let by_cell = matches!(
+            self.kind.rules().local,
+            LocalMove::CellSweep | LocalMove::Regions
+        );
         let mut found = false;
         for y in 0..h {
             for x in 0..w {
@@ -96,6 +99,18 @@ impl<
                 let here = bcd::label(grid, &self.field, self.cur.x as i32, self.cur.y as i32);
                 let rank = |c: Cell| {
                     u32::from(bcd::label(grid, &self.field, c.x as i32, c.y as i32) != here)
+                };
+                Some(cells::nearest_of_best_rank(
+                    self.list.as_slice(),
+                    self.cur,
+                    rank,
+                ))
+            }
+            (_, LocalMove::Regions) => {
+                let here = bcd::label(grid, &self.field, self.cur.x as i32, self.cur.y as i32);
+                let rank = |c: Cell| {
+                    let other = bcd::label(grid, &self.field, c.x as i32, c.y as i32) != here;
+                    u32::from(other) * 8 + regions::ccw_rank(grid, self.cur, c)
                 };
                 Some(cells::nearest_of_best_rank(
                     self.list.as_slice(),

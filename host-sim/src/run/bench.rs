@@ -130,7 +130,7 @@ pub fn paper_table2(
         BaStar => 0,
         BTheta => 2,
         BOha => 4,
-        BOhaPc | Template | MarkBacktrack | Binn | Wavefront | Stc | Bcd => return None,
+        BOhaPc | Template | MarkBacktrack | Binn | Wavefront | Stc | Bcd | Regions => return None,
     } + usize::from(wide);
     PAPER_TABLE2
         .iter()

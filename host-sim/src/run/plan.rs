@@ -41,7 +41,7 @@ pub const SEED000_PLANNERS: [PlannerKind; 4] = [
 ];
 
 /// Every coverage planner ([`PlannerKind::ALL`]).
-pub const ALL_PLANNERS: [PlannerKind; 10] = PlannerKind::ALL;
+pub const ALL_PLANNERS: [PlannerKind; 11] = PlannerKind::ALL;
 
 /// The planners' command-line names, comma-separated (for messages).
 pub fn planner_names() -> String {

@@ -6,8 +6,8 @@
 //! - **seed 003** (§4): a 20 × 20 grid, the robot starting at cell (1, 20)
 //!   (1-based, the bottom-left corner), coverage = covered ÷ (n² −
 //!   obstacles) and repetition = repeated cells ÷ (n² − obstacles); our map
-//!   has one U-shaped obstacle and three convex ones. The seed's own
-//!   planner (regions) is not among ours.
+//!   has one U-shaped obstacle and three convex ones; the seed's own
+//!   planner is our `regions`, in our reading of its decomposition.
 //! - **seed 001** (§5.1, §5.2): a 400 × 400 cm room, a 33 cm robot as one
 //!   cell (12 × 12), starting top-left; metrics: sub-regions, backtracking
 //!   length, first-pass coverage (covered before the first transit) and

@@ -9,6 +9,7 @@ pub mod ba_star;
 pub mod bcd;
 pub mod binn;
 pub mod mark_backtrack;
+pub mod regions;
 pub mod stc;
 pub mod template;
 pub mod wavefront;
