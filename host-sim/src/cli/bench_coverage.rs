@@ -23,7 +23,7 @@ pub struct Opts {
     pub svg_dir: Option<PathBuf>,
 }
 
-/// Runs the bench.
+/// Runs the bench; an error when any plan fails the independent checker.
 pub fn run(o: Opts) -> Result<(), String> {
     if !(o.cell_m.is_finite() && o.cell_m > 0.0) {
         return Err("--cell must be a positive number of metres".into());
@@ -42,7 +42,7 @@ pub fn run(o: Opts) -> Result<(), String> {
             if let Some(d) = &o.svg_dir {
                 let title = format!("{name}: {}", p.kind.name());
                 let body = host_sim::report::svg::plan_svg(&map, p, &title);
-                let out = d.join(format!("{name}.{}.svg", p.kind.name()));
+                let out = d.join(svg_name(&name, p.kind.name()));
                 let _ = std::fs::write(out, body);
             }
             pb.inc(1);
@@ -60,13 +60,25 @@ pub fn run(o: Opts) -> Result<(), String> {
         let doc = serde_json::json!({"cell_m": o.cell_m, "rows": rows});
         write_file(&p, &serde_json::to_string_pretty(&doc).unwrap_or_default())?;
     }
+    let failed = rows.iter().filter(|r| !r.valid).count();
+    if failed > 0 {
+        return Err(format!(
+            "{failed} of {} plans failed the independent checker",
+            rows.len()
+        ));
+    }
     Ok(())
 }
 
+/// A map's name in the tables and the JSON: its path as given (two maps
+/// may share a file name).
 fn file_name(f: &Path) -> String {
-    f.file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default()
+    f.display().to_string()
+}
+
+/// A picture's file name: the map's path with `/` as `_`, then the planner.
+fn svg_name(map: &str, planner: &str) -> String {
+    format!("{}.{planner}.svg", map.replace(['/', '\\'], "_"))
 }
 
 fn parse_planners(names: &[String]) -> Result<Vec<PlannerKind>, String> {
