@@ -52,108 +52,26 @@
 //! emptied list.
 
 pub mod cells;
+mod kind;
 pub mod list;
+mod local;
 pub mod planners;
 pub mod rules;
 pub mod types;
 mod upkeep;
 
 pub use cells::{nearest_k, uncovered, E_, N_, S_, W_};
+pub use kind::PlannerKind;
 pub use list::BacktrackList;
 pub use types::{CoverageError, PlanStats, Step, Waypoint};
 
-use crate::grid::los::{line_of_sight, supercover};
+use crate::grid::los::line_of_sight;
 use crate::grid::{Cell, Grid, Layer};
 use crate::search::prune::prune;
 use crate::search::{Progress, SearchError, SearchState, MAX_GOALS};
 use crate::verify::metrics::SegmentKind;
-use planners::{
-    b_oha, b_oha_pc, b_theta, ba_star, bcd, binn, mark_backtrack, regions, stc, template, wavefront,
-};
-use rules::{ListRule, LocalMove, Priority, Rules};
-
-/// The coverage planners.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[repr(u8)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub enum PlannerKind {
-    /// B-OHA*, seed 000 (ALGORITHMS.md §1).
-    BOha = 0,
-    /// BA* (Viet et al. 2013), the paper's first baseline.
-    BaStar,
-    /// B-Theta* (Choi et al. 2017), the paper's second baseline.
-    BTheta,
-    /// B-OHA*-PC: our variant of B-OHA* (see [`crate::coverage::planners::b_oha_pc`]).
-    BOhaPc,
-    /// The efficient template method, seed 002 (ALGORITHMS.md §3).
-    Template,
-    /// Mark backtracking with closed areas, seed 001 (ALGORITHMS.md §2).
-    MarkBacktrack,
-    /// The bio-inspired neural network, seed 004 (ALGORITHMS.md §5).
-    Binn,
-    /// Wavefront coverage, seed 004 (ALGORITHMS.md §5).
-    Wavefront,
-    /// Spanning-tree coverage, seed 004 (ALGORITHMS.md §5).
-    Stc,
-    /// Boustrophedon cell decomposition, seed 004 (ALGORITHMS.md §5).
-    Bcd,
-    /// Region decomposition with spiral and comb, seed 003 (ALGORITHMS.md
-    /// §4).
-    Regions,
-}
-
-impl PlannerKind {
-    /// Every coverage planner: seed 000's (baselines first), then seeds
-    /// 001, 002 and 004's.
-    pub const ALL: [PlannerKind; 11] = [
-        PlannerKind::BaStar,
-        PlannerKind::BTheta,
-        PlannerKind::BOha,
-        PlannerKind::BOhaPc,
-        PlannerKind::MarkBacktrack,
-        PlannerKind::Template,
-        PlannerKind::Binn,
-        PlannerKind::Wavefront,
-        PlannerKind::Stc,
-        PlannerKind::Bcd,
-        PlannerKind::Regions,
-    ];
-
-    /// The name used on the command line.
-    pub const fn name(self) -> &'static str {
-        match self {
-            PlannerKind::BOha => "b-oha",
-            PlannerKind::BaStar => "ba",
-            PlannerKind::BTheta => "b-theta",
-            PlannerKind::BOhaPc => "b-oha-pc",
-            PlannerKind::Template => "template",
-            PlannerKind::MarkBacktrack => "mark-backtrack",
-            PlannerKind::Binn => "binn",
-            PlannerKind::Wavefront => "wavefront",
-            PlannerKind::Stc => "stc",
-            PlannerKind::Bcd => "bcd",
-            PlannerKind::Regions => "regions",
-        }
-    }
-
-    /// The planner's rules: the one `match` on the kind.
-    pub const fn rules(self) -> Rules {
-        match self {
-            PlannerKind::BOha => b_oha::RULES,
-            PlannerKind::BaStar => ba_star::RULES,
-            PlannerKind::BTheta => b_theta::RULES,
-            PlannerKind::BOhaPc => b_oha_pc::RULES,
-            PlannerKind::Template => template::RULES,
-            PlannerKind::MarkBacktrack => mark_backtrack::RULES,
-            PlannerKind::Binn => binn::RULES,
-            PlannerKind::Wavefront => wavefront::RULES,
-            PlannerKind::Stc => stc::RULES,
-            PlannerKind::Bcd => bcd::RULES,
-            PlannerKind::Regions => regions::RULES,
-        }
-    }
-}
+use planners::{b_oha, ba_star, template};
+use rules::{ListRule, Priority};
 
 #[derive(Clone, Copy, PartialEq, Eq)]
 #[repr(u8)]
@@ -616,82 +534,5 @@ impl<
         // path[1..m] are transit waypoints, path[m..] cover moves.
         self.transit_end = m;
         self.path_len = m + (n - t);
-    }
-
-    /// The highest-priority 4-neighbour that is free and uncovered (pockets
-    /// first, see [`planners::b_oha_pc`]; BINN's ranking, see
-    /// [`planners::binn`]).
-    fn next_local_move<const GW: usize>(&self, grid: &Grid<GW>) -> Option<Cell> {
-        match self.kind.rules().local {
-            LocalMove::PocketsFirst => return b_oha_pc::next_move(grid, self.cur, &self.priority),
-            LocalMove::LeastTurn => {
-                return binn::next_move(grid, self.cur, self.heading(), &self.priority)
-            }
-            LocalMove::Wavefront => {
-                return wavefront::next_move(grid, &self.field, self.cur, &self.priority)
-            }
-            LocalMove::SpanningTree => return stc::next_move(grid, &self.field, self.cur),
-            LocalMove::CellSweep => {
-                return bcd::next_move(grid, &self.field, self.cur, &self.priority)
-            }
-            LocalMove::Regions => {
-                return regions::next_move(grid, &self.field, self.cur, self.heading())
-            }
-            LocalMove::Priority => {}
-        }
-        cells::open_moves(grid, self.cur, &self.priority)
-            .next()
-            .map(|(_, c)| c)
-    }
-
-    /// Marks the cells of the segment cur → to covered, takes them off
-    /// the list, and sets the heading.
-    fn cover_segment<const GW: usize>(&mut self, grid: &mut Grid<GW>, to: Cell) {
-        let (dx, dy) = (
-            to.x as i32 - self.cur.x as i32,
-            to.y as i32 - self.cur.y as i32,
-        );
-        if (dx, dy) != (0, 0) {
-            self.heading = (dx.signum() as i8, dy.signum() as i8);
-        }
-        let w = grid.width() as usize;
-        supercover(self.cur.xy(), to.xy(), |x, y| {
-            if grid.is_free(x, y) {
-                let _ = grid.set(Layer::Covered, x, y, true);
-                let i = y as usize * w + x as usize;
-                self.list.remove_index(i, Cell::new(x as u16, y as u16));
-            }
-            true
-        });
-    }
-
-    /// (Re)builds the per-cell field of the planners that keep one.
-    fn build_field<const GW: usize>(&mut self, grid: &Grid<GW>) {
-        match self.kind.rules().local {
-            LocalMove::Wavefront => wavefront::build(grid, &mut self.field, self.origin),
-            LocalMove::SpanningTree => stc::build(grid, &mut self.field, self.cur),
-            LocalMove::CellSweep => bcd::build(grid, &mut self.field),
-            LocalMove::Regions => regions::build(grid, &mut self.field),
-            LocalMove::Priority | LocalMove::PocketsFirst | LocalMove::LeastTurn => {}
-        }
-    }
-
-    /// The direction of the last move as (dx, dy) unit steps.
-    fn heading(&self) -> (i32, i32) {
-        (i32::from(self.heading.0), i32::from(self.heading.1))
-    }
-
-    /// What the planner's list rule records on arrival at a cell.
-    fn on_arrive<const GW: usize>(&mut self, grid: &Grid<GW>) {
-        match self.kind.rules().list {
-            ListRule::NeighboursPrunedToCorners | ListRule::NeighboursPrunedToEdges => {
-                b_oha::push_neighbours(&mut self.list, grid, self.cur)
-            }
-            ListRule::Marks => {
-                let heading = self.heading();
-                mark_backtrack::push_marks(&mut self.list, grid, self.cur, heading)
-            }
-            ListRule::RebuiltFromCovered | ListRule::RescanOnly => {}
-        }
     }
 }
