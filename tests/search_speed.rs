@@ -1,5 +1,5 @@
 //! The search's fast machinery (issue 13, search speed), each piece checked
-//! against a plain model: the radix order of the open list, division by a
+//! against a plain model: the dial order of the open list, division by a
 //! map's width without a divide, and the 3 × 3 free-neighbour read.
 
 mod common;
@@ -19,14 +19,19 @@ proptest! {
     /// consistent heuristic pushes) come out smallest first, each pushed
     /// entry exactly once, however pushes and pops interleave.
     #[test]
-    fn radix_order_pops_the_least_key(ops in proptest::collection::vec((any::<bool>(), 0u32..20_000, 0u32..1000), 1..600)) {
+    fn dial_order_pops_the_least_key(ops in proptest::collection::vec((any::<bool>(), 0u32..=robovac::search::open_list::dial::SPREAD, 0u32..1000), 1..600)) {
         let mut q: OpenList<1024> = OpenList::new();
         q.clear_for(Order::Monotone);
         let mut model: Vec<(u32, u32)> = Vec::new();
         let mut last = 0u32;
+        let mut pushed = false;
         for (push, delta, idx) in ops {
             if push {
                 let f = last + delta;
+                if !pushed {
+                    last = f; // the first key since the clear sets the floor
+                    pushed = true;
+                }
                 q.push(entry(f, idx)).unwrap();
                 model.push((f, idx));
             } else {
@@ -46,33 +51,50 @@ proptest! {
     }
 }
 
-/// The documented tie rule: equal keys pushed while they are the least
-/// come out last in first out, ahead of those that became the least
-/// through a refill, which come out in push order.
+/// The documented tie rule: equal keys come out last in first out,
+/// except a bucket that held several keys, whose entries of the least key
+/// come out oldest first once it is split.
 #[test]
-fn radix_ties_follow_the_documented_rule() {
-    let mut q: OpenList<8> = OpenList::new();
+fn dial_ties_follow_the_documented_rule() {
+    let mut q: OpenList<16> = OpenList::new();
     q.clear_for(Order::Monotone);
+    q.push(entry(10, 9)).unwrap(); // the first push sets the floor
     for idx in 0..3 {
         q.push(entry(40, idx)).unwrap();
     }
-    q.push(entry(10, 9)).unwrap();
     assert_eq!(q.pop().map(|e| (e.f, e.idx)), Some((10, 9)));
-    assert_eq!(
-        q.pop().map(|e| (e.f, e.idx)),
-        Some((40, 0)),
-        "refilled: push order"
-    );
+    assert_eq!(q.pop().map(|e| (e.f, e.idx)), Some((40, 2)), "newest first");
     q.push(entry(40, 5)).unwrap();
     q.push(entry(40, 6)).unwrap();
     let order: Vec<(u32, u32)> = std::iter::from_fn(|| q.pop().map(|e| (e.f, e.idx))).collect();
-    assert_eq!(order, [(40, 6), (40, 5), (40, 1), (40, 2)]);
+    assert_eq!(order, [(40, 6), (40, 5), (40, 1), (40, 0)]);
+    // Keys 40 and 41 share a bucket: it is split when opened.
+    q.clear_for(Order::Monotone);
+    for (f, idx) in [(10, 9), (41, 1), (40, 2), (41, 3), (40, 4)] {
+        q.push(entry(f, idx)).unwrap();
+    }
+    let order: Vec<(u32, u32)> = std::iter::from_fn(|| q.pop().map(|e| (e.f, e.idx))).collect();
+    assert_eq!(order, [(10, 9), (40, 2), (40, 4), (41, 1), (41, 3)]);
+}
+
+/// A key beyond the span a consistent heuristic can push is lowered to its
+/// bound: popped in its turn there, not lost.
+#[test]
+fn dial_lowers_a_key_beyond_its_span() {
+    use robovac::search::open_list::dial::SPREAD;
+    let mut q: OpenList<8> = OpenList::new();
+    q.clear_for(Order::Monotone);
+    q.push(entry(100, 1)).unwrap();
+    q.push(entry(100 + SPREAD + 5_000, 2)).unwrap();
+    q.push(entry(100 + SPREAD - 1, 3)).unwrap();
+    let order: Vec<(u32, u32)> = std::iter::from_fn(|| q.pop().map(|e| (e.f, e.idx))).collect();
+    assert_eq!(order, [(100, 1), (100 + SPREAD - 1, 3), (100 + SPREAD, 2)]);
 }
 
 /// A key below the last popped (which a consistent heuristic never
 /// gives) is raised to it: popped next, not lost.
 #[test]
-fn radix_raises_a_falling_key() {
+fn dial_raises_a_falling_key() {
     let mut q: OpenList<8> = OpenList::new();
     q.clear_for(Order::Monotone);
     q.push(entry(100, 1)).unwrap();
@@ -84,10 +106,10 @@ fn radix_raises_a_falling_key() {
     assert_eq!(q.pop(), None);
 }
 
-/// The radix order has the heap's capacity: full at `CAP` entries, and a
+/// The dial has the heap's capacity: full at `CAP` entries, and a
 /// popped slot is used again.
 #[test]
-fn radix_capacity_and_reuse() {
+fn dial_capacity_and_reuse() {
     let mut q: OpenList<4> = OpenList::new();
     q.clear_for(Order::Monotone);
     for k in 0..4 {

@@ -279,10 +279,16 @@ impl<const NW: usize> Grid<NW> {
     /// search's hot loop (issue 13).
     #[inline(always)]
     pub fn free_neighbours(&self, x: i32, y: i32) -> u32 {
+        self.free_neighbours_at((y * self.width as i32 + x) as usize, x, y)
+    }
+
+    /// [`Grid::free_neighbours`] of the cell at linear index `i` = (x, y),
+    /// for a caller that has the index already (the search).
+    #[inline(always)]
+    pub fn free_neighbours_at(&self, i: usize, x: i32, y: i32) -> u32 {
         /// (bit 0, bit 1, bit 2) of the row above to NW (3), N (2), NE (1).
         const ABOVE: [u32; 8] = [0, 8, 4, 12, 2, 10, 6, 14];
         let (w, h) = (self.width as i32, self.height as i32);
-        let i = (y * w + x) as usize;
         // Cells x - 1 ..= x + 1 of the row whose cell x is at r (at x = 0,
         // x - 1 is off the map: read from x, shifted). The row above the
         // first wraps to an index beyond the capacity and reads 0; the edge
@@ -318,7 +324,13 @@ impl<const NW: usize> Grid<NW> {
     /// free (no corner cutting: the search's graph, defined here once).
     #[inline(always)]
     pub fn moves(&self, x: i32, y: i32) -> u32 {
-        let free = self.free_neighbours(x, y);
+        self.moves_at((y * self.width as i32 + x) as usize, x, y)
+    }
+
+    /// [`Grid::moves`] of the cell at linear index `i` = (x, y).
+    #[inline(always)]
+    pub fn moves_at(&self, i: usize, x: i32, y: i32) -> u32 {
+        let free = self.free_neighbours_at(i, x, y);
         // Straight moves are the even k; a diagonal k needs k - 1 and
         // k + 1 (mod 8) free.
         let straight = free & 0b0101_0101;

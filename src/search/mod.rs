@@ -5,7 +5,7 @@
 //!
 //! The files point one way, toward the leaves: [`state`] (the state, its
 //! errors and statistics: a leaf), [`heuristics`], [`theta`] (Theta*'s
-//! parent update), [`open_list`] (with its radix order, [`open_list::radix`]) and
+//! parent update), [`open_list`] (with its bucket order, [`open_list::dial`]) and
 //! [`prune`] serve [`run`], the loop.
 
 pub mod apf;

@@ -19,8 +19,8 @@
 use super::heuristics;
 use super::open_list::{Entry, Order};
 use super::state::{
-    Algo, Progress, SearchError, SearchState, SearchStats, FOUND, IDLE, MAX_GOALS, NEIGHBOURS,
-    RUNNING,
+    Algo, Node, Progress, SearchError, SearchState, SearchStats, FOUND, IDLE, MAX_GOALS,
+    NEIGHBOURS, RUNNING,
 };
 use super::theta;
 use crate::grid::{Cell, Grid};
@@ -79,11 +79,14 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
             *slot = goal;
         }
         self.goal_count = goals.len() as u32;
+        let (gx, gy) = self.goals[0].xy();
+        self.goal_index = grid.index(gx, gy).map_or(u32::MAX, |g| g as u32);
         self.start = start;
         self.algo = algo;
         self.width = grid.width();
         self.height = grid.height();
         self.rows = RowDivider::new(grid.width() as u16);
+        self.steps = index_steps(grid.width() as i32);
         self.nodes = 0;
         self.pushes = 0;
         self.seen.clear_prefix(cells);
@@ -118,9 +121,31 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
             self.phase = IDLE;
             return Err(SearchError::MapChanged);
         }
+        if self.algo == Algo::AStarOctile {
+            self.drive::<true, GW>(grid, budget)
+        } else {
+            self.drive::<false, GW>(grid, budget)
+        }
+    }
+
+    /// The loop of [`SearchState::resume`], compiled twice (issue 13,
+    /// search speed): `OCT` for A* octile, whose key, open list and
+    /// neighbour test are then fixed at compile time (no per-neighbour
+    /// dispatch on the algorithm), and once for every other algorithm.
+    #[inline(always)]
+    fn drive<const OCT: bool, const GW: usize>(
+        &mut self,
+        grid: &Grid<GW>,
+        budget: u32,
+    ) -> Result<Progress, SearchError> {
         let mut left = budget;
         while left > 0 {
-            let Some(e) = self.open.pop() else {
+            let popped = if OCT {
+                self.open.dial_pop()
+            } else {
+                self.open.pop()
+            };
+            let Some(e) = popped else {
                 self.phase = IDLE;
                 return Err(SearchError::NoPath);
             };
@@ -132,12 +157,18 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
             self.nodes = self.nodes.saturating_add(1);
             left -= 1;
             let cell = self.cell_of(i);
-            if self.goals().contains(&cell) {
+            if self.is_goal(e.idx, cell) {
                 self.phase = FOUND;
                 self.found = e.idx;
                 return Ok(Progress::Found(self.stats(e.idx)));
             }
-            if let Err(err) = self.expand(grid, i, cell) {
+            let expanded = if OCT {
+                let (x, y) = cell.xy();
+                self.expand_octile(i, (x, y), grid.moves_at(i, x, y))
+            } else {
+                self.expand(grid, i, cell)
+            };
+            if let Err(err) = expanded {
                 self.phase = IDLE;
                 return Err(err);
             }
@@ -145,6 +176,67 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
         Ok(Progress::Pending {
             nodes_expanded: self.nodes,
         })
+    }
+
+    /// Whether the cell at index `idx` (= `cell`) is a goal: one compare
+    /// for a single goal (the index kept by `begin`), a scan otherwise.
+    #[inline(always)]
+    fn is_goal(&self, idx: u32, cell: Cell) -> bool {
+        idx == self.goal_index || (self.goal_count > 1 && self.goals().contains(&cell))
+    }
+
+    /// [`Self::expand`] for A* octile, over the `moves` out of cell `i` =
+    /// (x, y) ([`Grid::moves`]). Its heuristic is consistent, so a
+    /// closed neighbour already has its least cost and can never improve:
+    /// the closed test is left out (the cost compare rejects it), which
+    /// changes nothing in the result. The key is the octile distance
+    /// ([`heuristics::octile_nearest`]) and the open list the dial
+    /// ([`super::open_list::dial`]).
+    #[inline(always)]
+    fn expand_octile(
+        &mut self,
+        i: usize,
+        (x, y): (i32, i32),
+        mut moves: u32,
+    ) -> Result<(), SearchError> {
+        let gs = self.g_at(i);
+        while let Some(k) = take_move(&mut moves) {
+            let ni = (i as i32).wrapping_add(pick(&self.steps, k)) as usize;
+            let cand = gs.saturating_add(pick(&STEP_COST, k));
+            let Some(node) = self.node.get_mut(ni) else {
+                continue;
+            };
+            if self.seen.get(ni) && cand >= node.g {
+                continue;
+            }
+            *node = Node {
+                g: cand,
+                parent: i as u32,
+            };
+            self.seen.put(ni, true);
+            let (dx, dy) = pick(&NEIGHBOURS, k);
+            let h = self.octile_h(x + dx, y + dy);
+            self.open
+                .dial_push(cand.saturating_add(h), ni as u32)
+                .map_err(|_| SearchError::OpenListFull)?;
+        }
+        Ok(())
+    }
+
+    /// The octile distance from (x, y) to the nearest goal: with one goal,
+    /// straight to it, in plain 32-bit arithmetic (cells are `u16`, so
+    /// 65,535 × 8,119 < 2^30 cannot overflow: no saturating steps).
+    #[inline(always)]
+    fn octile_h(&self, x: i32, y: i32) -> u32 {
+        if self.goal_count == 1 {
+            let g = self.goals[0];
+            let dx = (g.x as i32 - x).unsigned_abs() & 0xFFFF;
+            let dy = (g.y as i32 - y).unsigned_abs() & 0xFFFF;
+            let (lo, hi) = if dx < dy { (dx, dy) } else { (dy, dx) };
+            lo * COST_DIAGONAL + (hi - lo) * COST_PER_CELL
+        } else {
+            heuristics::octile_nearest(Cell::new(x as u16, y as u16), self.goals())
+        }
     }
 
     /// Relaxes the neighbours of cell `i` = `cell`. A tight loop (issue
@@ -159,26 +251,17 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
     ) -> Result<(), SearchError> {
         let (x, y) = cell.xy();
         let gs = self.g_at(i);
-        let w = self.width as i32;
-        let mut moves = grid.moves(x, y);
+        let mut moves = grid.moves_at(i, x, y);
         let theta = self.algo == Algo::Theta;
         let blind = matches!(self.algo, Algo::Bfs | Algo::Dfs);
-        // Index steps to the neighbours, in the order of NEIGHBOURS.
-        let steps = [1, 1 - w, -w, -1 - w, -1, w - 1, w, w + 1];
-        while moves != 0 {
-            let k = moves.trailing_zeros() as usize;
-            moves &= moves - 1;
-            let (dx, dy) = NEIGHBOURS.get(k).copied().unwrap_or((0, 0));
+        while let Some(k) = take_move(&mut moves) {
+            let (dx, dy) = pick(&NEIGHBOURS, k);
             // Inside the map (the mask says so): the index is i + dy·w + dx.
-            let ni = (i as i32).wrapping_add(steps.get(k).copied().unwrap_or(0)) as usize;
+            let ni = (i as i32).wrapping_add(pick(&self.steps, k)) as usize;
             if self.closed.get(ni) {
                 continue;
             }
-            let step = if k % 2 == 1 {
-                COST_DIAGONAL
-            } else {
-                COST_PER_CELL
-            };
+            let step = pick(&STEP_COST, k);
             let (nx, ny) = (x + dx, y + dy);
             let (cand, par) = if theta {
                 theta::relax(self, grid, i, gs, (nx, ny), step)
@@ -218,7 +301,45 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
     }
 }
 
-/// The open list's order for `algo`: the radix queue for A* octile, whose
+/// The step cost of each move, in the order of [`NEIGHBOURS`] (the odd
+/// ones diagonal).
+const STEP_COST: [u32; 8] = [
+    COST_PER_CELL,
+    COST_DIAGONAL,
+    COST_PER_CELL,
+    COST_DIAGONAL,
+    COST_PER_CELL,
+    COST_DIAGONAL,
+    COST_PER_CELL,
+    COST_DIAGONAL,
+];
+
+/// Takes the lowest move out of a move mask ([`Grid::moves`]): its
+/// neighbour number, in the order of [`NEIGHBOURS`].
+#[inline(always)]
+fn take_move(moves: &mut u32) -> Option<usize> {
+    if *moves == 0 {
+        return None;
+    }
+    let k = (moves.trailing_zeros() & 7) as usize;
+    *moves &= *moves - 1;
+    Some(k)
+}
+
+/// Entry `k` of an eight-entry table: `k < 8` (a bit of a move mask), so
+/// the compiler drops the check and the fallback is never taken.
+#[inline(always)]
+fn pick<T: Copy + Default>(table: &[T; 8], k: usize) -> T {
+    table.get(k).copied().unwrap_or_default()
+}
+
+/// The linear index step to each neighbour on a map `w` cells wide, in
+/// the order of [`NEIGHBOURS`].
+const fn index_steps(w: i32) -> [i32; 8] {
+    [1, 1 - w, -w, -1 - w, -1, w - 1, w, w + 1]
+}
+
+/// The open list's order for `algo`: the dial for A* octile, whose
 /// heuristic is consistent (its keys never fall: [`Order::Monotone`]); the
 /// heap's strict order for the rest, whose results (the Euclidean A* of
 /// Table 1 and the mission, OHA*, Theta*, BFS, DFS) it keeps exactly.

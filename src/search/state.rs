@@ -164,8 +164,8 @@ pub(super) struct Node {
 ///
 /// Every field is a plain integer (or array of them, or a `#[repr(u8)]`
 /// enum whose discriminant 0 is a variant) and the all-zero bit pattern is
-/// a valid idle state that behaves as [`SearchState::new`] (the radix
-/// buckets, which differ, are set by every `begin`); a host may therefore
+/// a valid idle state that behaves as [`SearchState::new`] (the dial's
+/// list ends, which differ, are set by every `begin`); a host may therefore
 /// allocate a large state directly on the heap, zeroed.
 pub struct SearchState<const N: usize, const NW: usize, const OPEN: usize> {
     /// Each cell's g-score and parent side by side: relaxing a cell writes
@@ -176,6 +176,9 @@ pub struct SearchState<const N: usize, const NW: usize, const OPEN: usize> {
     pub(super) open: OpenList<OPEN>,
     pub(super) goals: [Cell; MAX_GOALS],
     pub(super) goal_count: u32,
+    /// The first goal's linear index: the goal test of a single-goal
+    /// query is one compare.
+    pub(super) goal_index: u32,
     pub(super) start: Cell,
     pub(super) algo: Algo,
     pub(super) phase: u8,
@@ -184,6 +187,9 @@ pub struct SearchState<const N: usize, const NW: usize, const OPEN: usize> {
     pub(super) height: u32,
     /// Divides a linear index by `width` without a divide instruction.
     pub(super) rows: RowDivider,
+    /// The linear index step to each neighbour, in the order of
+    /// [`NEIGHBOURS`] (set by `begin` from the width).
+    pub(super) steps: [i32; 8],
     pub(super) nodes: u32,
     /// Bumped by every `begin`: a caller that lends this state to another
     /// (the planner to the fine searches, [`super::window`]) compares it
@@ -218,6 +224,7 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
             open: OpenList::new(),
             goals: [Cell::new(0, 0); MAX_GOALS],
             goal_count: 0,
+            goal_index: 0,
             start: Cell::new(0, 0),
             algo: Algo::AStar,
             phase: IDLE,
@@ -225,6 +232,7 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
             width: 0,
             height: 0,
             rows: RowDivider::new(1),
+            steps: [0; 8],
             nodes: 0,
             query: 0,
             pushes: 0,

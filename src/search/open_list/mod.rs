@@ -1,6 +1,6 @@
 //! The open list: an array-based 4-ary min-heap of fixed capacity, or, for
-//! searches whose keys never fall below the last one popped, a radix queue
-//! in the same array ([`radix`], [`Order::Monotone`]).
+//! searches whose keys never fall below the last one popped, a bucket
+//! queue in the same array ([`dial`], [`Order::Monotone`]).
 //!
 //! **Why 4-ary** (issue 13, search speed): a pop sifts down half as many
 //! levels as in a binary heap, and the four children of a node sit side by
@@ -21,7 +21,7 @@
 //! entry nearer the goal), then smallest cell index, so runs are
 //! deterministic.
 
-pub mod radix;
+pub mod dial;
 
 /// A heap entry: priority `f`, cost-so-far `g`, and the cell's index.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -77,20 +77,19 @@ pub enum Order {
     /// then larger g, then smaller index). For any keys. Discriminant 0:
     /// an all-zero open list is an empty heap.
     Strict = 0,
-    /// The radix queue ([`radix`]): smaller f first, equal f last in
+    /// The dial ([`dial`]): smaller f first, equal f last in
     /// first out, g not kept. Only for keys that never fall below the last
     /// key popped (a consistent heuristic); a smaller key is raised to it.
     Monotone,
 }
 
-/// An open list of at most `CAP` entries: a 4-ary min-heap, or a radix
-/// queue over the same array ([`Order`]).
+/// An open list of at most `CAP` entries: a 4-ary min-heap, or a dial over the same array ([`Order`]).
 pub struct OpenList<const CAP: usize> {
     len: usize,
     items: [Entry; CAP],
     peak: usize,
     order: Order,
-    radix: radix::Buckets,
+    dial: dial::Dial,
 }
 
 impl<const CAP: usize> Default for OpenList<CAP> {
@@ -107,7 +106,7 @@ impl<const CAP: usize> OpenList<CAP> {
             items: [Entry { f: 0, g: 0, idx: 0 }; CAP],
             peak: 0,
             order: Order::Strict,
-            radix: radix::Buckets::new(),
+            dial: dial::Dial::new(),
         }
     }
 
@@ -122,7 +121,7 @@ impl<const CAP: usize> OpenList<CAP> {
         self.len = 0;
         self.peak = 0;
         self.order = order;
-        self.radix = radix::Buckets::new();
+        self.dial = dial::Dial::new();
     }
 
     /// Number of entries.
@@ -137,7 +136,10 @@ impl<const CAP: usize> OpenList<CAP> {
 
     /// Largest number of entries held since the last `clear`.
     pub fn peak(&self) -> usize {
-        self.peak
+        match self.order {
+            Order::Strict => self.peak,
+            Order::Monotone => self.dial_peak(),
+        }
     }
 
     /// Inserts an entry, or returns [`Full`].
@@ -145,17 +147,17 @@ impl<const CAP: usize> OpenList<CAP> {
     pub fn push(&mut self, e: Entry) -> Result<(), Full> {
         match self.order {
             Order::Strict => self.heap_push(e),
-            Order::Monotone => self.radix_push(e.f, e.idx),
+            Order::Monotone => self.dial_push(e.f, e.idx),
         }
     }
 
     /// Removes and returns the first entry. In [`Order::Monotone`] its `g`
-    /// reads 0 (the radix queue does not keep it).
+    /// reads 0 (the dial does not keep it).
     #[inline]
     pub fn pop(&mut self) -> Option<Entry> {
         match self.order {
             Order::Strict => self.heap_pop(),
-            Order::Monotone => self.radix_pop(),
+            Order::Monotone => self.dial_pop(),
         }
     }
 
