@@ -118,6 +118,8 @@ fn apf_errors_are_typed() {
         ((9, 0), (4, 2), SearchError::StartOffMap),
         ((0, 0), (4, 9), SearchError::GoalOffMap),
         ((0, 0), (4, 0), SearchError::PathBufferTooSmall),
+        // Two faults: the start is checked whole first, as in every search.
+        ((1, 1), (4, 9), SearchError::StartBlocked),
     ]
     .map(|((a, b), (c, d), e)| ((Cell::new(a, b), Cell::new(c, d)), e))
     {

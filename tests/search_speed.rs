@@ -6,6 +6,7 @@ mod common;
 
 use common::*;
 use proptest::prelude::*;
+use robovac::math::bits::Bits;
 use robovac::math::divide::{RowDivider, EXACT_BELOW};
 use robovac::search::open_list::{Entry, Full, OpenList, Order};
 use robovac::search::NEIGHBOURS;
@@ -175,5 +176,37 @@ proptest! {
                 prop_assert_eq!(g.free_neighbours(x, y), want, "({}, {})", x, y);
             }
         }
+    }
+}
+
+proptest! {
+    /// The ring read of any bit raster (the search's closed cells) equals
+    /// eight plain reads wherever all eight neighbours lie on the raster,
+    /// and the close's test-and-set reports the bit as it was.
+    #[test]
+    fn ring_and_test_and_set_match_plain_reads(bits in proptest::collection::vec(any::<bool>(), 0..600), w in 1usize..40) {
+        let mut b: Bits<{ 640 / 32 }> = Bits::new();
+        for (i, &v) in bits.iter().enumerate() {
+            b.put(i, v);
+        }
+        let h = bits.len() / w;
+        for y in 1..h.saturating_sub(1) {
+            for x in 1..w.saturating_sub(1) {
+                let i = y * w + x;
+                let mut want = 0u32;
+                for (k, (dx, dy)) in NEIGHBOURS.iter().enumerate() {
+                    let j = (i as i64 + *dy as i64 * w as i64 + *dx as i64) as usize;
+                    if bits[j] {
+                        want |= 1 << k;
+                    }
+                }
+                prop_assert_eq!(b.ring(i, w, false), want, "({}, {})", x, y);
+            }
+        }
+        for (i, &v) in bits.iter().enumerate() {
+            prop_assert_eq!(b.test_and_set(i), v);
+            prop_assert!(b.get(i));
+        }
+        prop_assert!(b.test_and_set(640 + 5), "beyond the capacity reads as set");
     }
 }

@@ -286,23 +286,8 @@ impl<const NW: usize> Grid<NW> {
     /// for a caller that has the index already (the search).
     #[inline(always)]
     pub fn free_neighbours_at(&self, i: usize, x: i32, y: i32) -> u32 {
-        /// (bit 0, bit 1, bit 2) of the row above to NW (3), N (2), NE (1).
-        const ABOVE: [u32; 8] = [0, 8, 4, 12, 2, 10, 6, 14];
         let (w, h) = (self.width as i32, self.height as i32);
-        // Cells x - 1 ..= x + 1 of the row whose cell x is at r (at x = 0,
-        // x - 1 is off the map: read from x, shifted). The row above the
-        // first wraps to an index beyond the capacity and reads 0; the edge
-        // mask below decides every cell off the map.
-        let row = |r: usize| {
-            if x > 0 {
-                self.obstacle.get3(r.wrapping_sub(1))
-            } else {
-                self.obstacle.get3(r) << 1 & 0b111
-            }
-        };
-        let (a, m, b) = (row(i.wrapping_sub(w as usize)), row(i), row(i + w as usize));
-        let mut blocked =
-            ABOVE.get(a as usize).copied().unwrap_or(0) | (m & 1) << 4 | (m >> 2) | b << 5;
+        let mut blocked = self.obstacle.ring(i, w as usize, x == 0);
         if x == 0 {
             blocked |= 0b0011_1000; // NW, W, SW
         }

@@ -43,10 +43,53 @@ impl<const NW: usize> Bits<NW> {
     /// search reads a cell's three neighbours in a row with it.
     #[inline]
     pub fn get3(&self, i: usize) -> u32 {
-        let k = i >> 5;
-        let lo = self.words.get(k).copied().unwrap_or(0) as u64;
-        let hi = self.words.get(k + 1).copied().unwrap_or(0) as u64;
-        (((hi << 32 | lo) >> (i & 31)) & 0b111) as u32
+        let (k, s) = (i >> 5, (i & 31) as u32);
+        let lo = self.words.get(k).copied().unwrap_or(0) >> s;
+        if s <= 29 {
+            return lo & 0b111; // all three in one word (30 times in 32)
+        }
+        let hi = self.words.get(k + 1).copied().unwrap_or(0) << (32 - s);
+        (lo | hi) & 0b111
+    }
+
+    /// The eight bits around bit `i` of a raster `w` bits wide, as bits
+    /// 0..8 in the order E, NE, N, NW, W, SW, S, SE (y grows downward; the
+    /// order of `search::NEIGHBOURS`): three reads of three bits, one per
+    /// row (issue 13, search speed). Bit `i` is in column 0 when
+    /// `left_edge`; its west side then reads 0. The caller masks what lies
+    /// off the raster: the row above the first wraps to an index beyond the
+    /// capacity and reads 0, but the east side of the last column reads the
+    /// next row and the row below the last may read stale bits.
+    #[inline(always)]
+    pub fn ring(&self, i: usize, w: usize, left_edge: bool) -> u32 {
+        /// (bit 0, bit 1, bit 2) of the row above to NW (3), N (2), NE (1).
+        const ABOVE: [u32; 8] = [0, 8, 4, 12, 2, 10, 6, 14];
+        // Bits x - 1 ..= x + 1 of the row whose bit x is r.
+        let row = |r: usize| {
+            if left_edge {
+                self.get3(r) << 1 & 0b111
+            } else {
+                self.get3(r.wrapping_sub(1))
+            }
+        };
+        let (a, m, b) = (row(i.wrapping_sub(w)), row(i), row(i.wrapping_add(w)));
+        ABOVE.get(a as usize).copied().unwrap_or(0) | (m & 1) << 4 | (m >> 2) | b << 5
+    }
+
+    /// Sets bit `i` and returns whether it was set before (one word read
+    /// and written: the search's close). Beyond the capacity: `true`,
+    /// nothing changed.
+    #[inline]
+    pub fn test_and_set(&mut self, i: usize) -> bool {
+        match self.words.get_mut(i >> 5) {
+            Some(w) => {
+                let m = 1u32 << (i & 31);
+                let was = *w & m != 0;
+                *w |= m;
+                was
+            }
+            None => true,
+        }
     }
 
     /// Sets bit `i` to `v`. Returns `false` (and changes nothing) when `i` is

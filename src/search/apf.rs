@@ -27,7 +27,7 @@
 //! in Q16, and `U_rep = k·(1/ρ − 1/ρ0)² / 2^17`. The repulsion reads the
 //! `(2ρ0 + 1)²` cells around a candidate: no field is stored.
 
-use super::state::SearchError;
+use super::state::{check_goal, check_start, SearchError};
 use crate::grid::{Cell, Grid};
 use crate::math::cost::isqrt_u64;
 
@@ -81,7 +81,8 @@ pub fn descend<const GW: usize>(
     p: ApfParams,
     out: &mut [Cell],
 ) -> Result<ApfWalk, SearchError> {
-    check_ends(grid, start, goal)?;
+    check_start(grid, start)?;
+    check_goal(grid, goal)?;
     let mut at = start;
     let mut here = potential(grid, at, goal, p);
     let mut n = 0usize;
@@ -172,27 +173,4 @@ fn nearest_blocked2<const GW: usize>(grid: &Grid<GW>, s: Cell, r0: i32) -> Optio
         }
     }
     best
-}
-
-/// Both ends on the map and free.
-fn check_ends<const GW: usize>(
-    grid: &Grid<GW>,
-    start: Cell,
-    goal: Cell,
-) -> Result<(), SearchError> {
-    let (sx, sy) = start.xy();
-    let (gx, gy) = goal.xy();
-    if !grid.contains(sx, sy) {
-        return Err(SearchError::StartOffMap);
-    }
-    if !grid.contains(gx, gy) {
-        return Err(SearchError::GoalOffMap);
-    }
-    if grid.is_blocked(sx, sy) {
-        return Err(SearchError::StartBlocked);
-    }
-    if grid.is_blocked(gx, gy) {
-        return Err(SearchError::GoalBlocked);
-    }
-    Ok(())
 }

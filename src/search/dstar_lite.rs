@@ -33,7 +33,7 @@
 //! [`SearchError::OpenListFull`], never a lost node.
 
 use super::open_list::{Entry, OpenList};
-use super::state::{SearchError, NEIGHBOURS};
+use super::state::{check_goal, check_start, SearchError, NEIGHBOURS};
 use crate::grid::{Cell, Grid};
 use crate::math::cost::{octile, COST_DIAGONAL, COST_PER_CELL};
 
@@ -110,20 +110,8 @@ impl<const N: usize, const OPEN: usize> DStarLite<N, OPEN> {
         if cells > N {
             return Err(SearchError::MapTooLarge);
         }
-        let (sx, sy) = start.xy();
-        if !grid.contains(sx, sy) {
-            return Err(SearchError::StartOffMap);
-        }
-        if grid.is_blocked(sx, sy) {
-            return Err(SearchError::StartBlocked);
-        }
-        let (gx, gy) = goal.xy();
-        if !grid.contains(gx, gy) {
-            return Err(SearchError::GoalOffMap);
-        }
-        if grid.is_blocked(gx, gy) {
-            return Err(SearchError::GoalBlocked);
-        }
+        check_start(grid, start)?;
+        check_goal(grid, goal)?;
         for c in self.costs.iter_mut().take(cells) {
             *c = Costs { g: INF, rhs: INF };
         }

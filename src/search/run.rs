@@ -19,8 +19,8 @@
 use super::heuristics;
 use super::open_list::{Entry, Order};
 use super::state::{
-    Algo, Node, Progress, SearchError, SearchState, SearchStats, FOUND, IDLE, MAX_GOALS,
-    NEIGHBOURS, RUNNING,
+    check_goal, check_start, Algo, Node, Progress, SearchError, SearchState, SearchStats, FOUND,
+    IDLE, MAX_GOALS, NEIGHBOURS, RUNNING,
 };
 use super::theta;
 use crate::grid::{Cell, Grid};
@@ -59,11 +59,7 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
         if cells > N || cells > NW * 32 {
             return Err(SearchError::MapTooLarge);
         }
-        let (sx, sy) = start.xy();
-        let si = grid.index(sx, sy).ok_or(SearchError::StartOffMap)?;
-        if grid.blocked_at(si) {
-            return Err(SearchError::StartBlocked);
-        }
+        let si = check_start(grid, start)?;
         if goals.is_empty() {
             return Err(SearchError::NoGoals);
         }
@@ -71,11 +67,7 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
             return Err(SearchError::TooManyGoals);
         }
         for (slot, &goal) in self.goals.iter_mut().zip(goals) {
-            let (gx, gy) = goal.xy();
-            let gi = grid.index(gx, gy).ok_or(SearchError::GoalOffMap)?;
-            if grid.blocked_at(gi) {
-                return Err(SearchError::GoalBlocked);
-            }
+            check_goal(grid, goal)?;
             *slot = goal;
         }
         self.goal_count = goals.len() as u32;
@@ -150,10 +142,9 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
                 return Err(SearchError::NoPath);
             };
             let i = e.idx as usize;
-            if self.closed.get(i) {
+            if self.closed.test_and_set(i) {
                 continue; // stale duplicate (lazy deletion)
             }
-            self.closed.put(i, true);
             self.nodes = self.nodes.saturating_add(1);
             left -= 1;
             let cell = self.cell_of(i);
@@ -164,7 +155,7 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
             }
             let expanded = if OCT {
                 let (x, y) = cell.xy();
-                self.expand_octile(i, (x, y), grid.moves_at(i, x, y))
+                self.expand_octile(i, (x, y), self.open_moves(grid, i, (x, y)))
             } else {
                 self.expand(grid, i, cell)
             };
@@ -186,10 +177,7 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
     }
 
     /// [`Self::expand`] for A* octile, over the `moves` out of cell `i` =
-    /// (x, y) ([`Grid::moves`]). Its heuristic is consistent, so a
-    /// closed neighbour already has its least cost and can never improve:
-    /// the closed test is left out (the cost compare rejects it), which
-    /// changes nothing in the result. The key is the octile distance
+    /// (x, y) into cells not closed ([`Self::open_moves`]). The key is the octile distance
     /// ([`heuristics::octile_nearest`]) and the open list the dial
     /// ([`super::open_list::dial`]).
     #[inline(always)]
@@ -223,6 +211,15 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
         Ok(())
     }
 
+    /// The moves out of cell `i` = (x, y) into cells not closed: the
+    /// grid's moves ([`Grid::moves`]) less the closed ring around `i`, read
+    /// as the grid reads its obstacles, so closed neighbours are dropped
+    /// eight at a time instead of tested one by one.
+    #[inline(always)]
+    fn open_moves<const GW: usize>(&self, grid: &Grid<GW>, i: usize, (x, y): (i32, i32)) -> u32 {
+        grid.moves_at(i, x, y) & !self.closed.ring(i, self.width as usize, x == 0)
+    }
+
     /// The octile distance from (x, y) to the nearest goal: with one goal,
     /// straight to it, in plain 32-bit arithmetic (cells are `u16`, so
     /// 65,535 × 8,119 < 2^30 cannot overflow: no saturating steps).
@@ -251,16 +248,13 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
     ) -> Result<(), SearchError> {
         let (x, y) = cell.xy();
         let gs = self.g_at(i);
-        let mut moves = grid.moves_at(i, x, y);
+        let mut moves = self.open_moves(grid, i, (x, y));
         let theta = self.algo == Algo::Theta;
         let blind = matches!(self.algo, Algo::Bfs | Algo::Dfs);
         while let Some(k) = take_move(&mut moves) {
             let (dx, dy) = pick(&NEIGHBOURS, k);
             // Inside the map (the mask says so): the index is i + dy·w + dx.
             let ni = (i as i32).wrapping_add(pick(&self.steps, k)) as usize;
-            if self.closed.get(ni) {
-                continue;
-            }
             let step = pick(&STEP_COST, k);
             let (nx, ny) = (x + dx, y + dy);
             let (cand, par) = if theta {

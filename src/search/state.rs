@@ -8,7 +8,7 @@
 //! query on a small map in a big state costs nothing extra.
 
 use super::open_list::OpenList;
-use crate::grid::Cell;
+use crate::grid::{Cell, Grid};
 use crate::math::bits::Bits;
 use crate::math::divide::{RowDivider, EXACT_BELOW};
 
@@ -132,6 +132,49 @@ pub enum Progress {
         /// Nodes expanded so far.
         nodes_expanded: u32,
     },
+}
+
+/// Checks a query's start, as every search does: on the map and free.
+/// Returns its linear index.
+pub(crate) fn check_start<const GW: usize>(
+    grid: &Grid<GW>,
+    start: Cell,
+) -> Result<usize, SearchError> {
+    check_end(
+        grid,
+        start,
+        SearchError::StartOffMap,
+        SearchError::StartBlocked,
+    )
+}
+
+/// Checks a query's goal, as every search does: on the map and free.
+pub(crate) fn check_goal<const GW: usize>(
+    grid: &Grid<GW>,
+    goal: Cell,
+) -> Result<usize, SearchError> {
+    check_end(
+        grid,
+        goal,
+        SearchError::GoalOffMap,
+        SearchError::GoalBlocked,
+    )
+}
+
+/// Checks one end of a query: on the map (else `off`) and free (else
+/// `blocked`). Returns its linear index.
+fn check_end<const GW: usize>(
+    grid: &Grid<GW>,
+    end: Cell,
+    off: SearchError,
+    blocked: SearchError,
+) -> Result<usize, SearchError> {
+    let (x, y) = end.xy();
+    let i = grid.index(x, y).ok_or(off)?;
+    if grid.blocked_at(i) {
+        return Err(blocked);
+    }
+    Ok(i)
 }
 
 pub(super) const IDLE: u8 = 0;
