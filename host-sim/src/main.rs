@@ -5,6 +5,7 @@ mod cli;
 
 use std::process::ExitCode;
 
+use clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand as MissingCommand;
 use clap::Parser;
 
 #[derive(Parser)]
@@ -19,7 +20,20 @@ struct Cli {
 }
 
 fn main() -> ExitCode {
-    match cli::run(Cli::parse().cmd) {
+    let args = match Cli::try_parse() {
+        Ok(args) => args,
+        // Help and version are printed whole (exit 0), and so is the help
+        // asked for by giving no command (exit 2).
+        Err(e) if !e.use_stderr() || e.kind() == MissingCommand => e.exit(),
+        // A usage error: its first line only ("error: ..."), exit code 2,
+        // as for every other bad input.
+        Err(e) => {
+            let text = e.to_string();
+            eprintln!("{}", text.lines().next().unwrap_or("error: bad arguments"));
+            return ExitCode::from(2);
+        }
+    };
+    match cli::run(args.cmd) {
         Ok(()) => ExitCode::SUCCESS,
         Err(msg) => {
             eprintln!("error: {msg}");

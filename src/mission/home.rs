@@ -1,6 +1,16 @@
 //! The way home: A* on the fine configuration space to the dock, planned
 //! again when cut short; at the dock (within 100 mm) a turn in place to
 //! the heading it left with, so it backs onto its charger's contacts.
+//!
+//! **Why not D\* Lite** (seed 004; issue 13 asked whether it saves work
+//! here). Measured with `host-sim bench replan --to-dock` on the six real
+//! homes: repairing the way home after someone steps into it expands
+//! 1.1–6.9× fewer nodes than A* octile from nothing, but takes 4–9× the
+//! time (updating the cells around the obstacle and its two-key queue cost
+//! more than the nodes saved); this Euclidean A* is 2–4× slower than A*
+//! octile (`bench peers`), so still the quicker. And D\* Lite keeps 8 bytes
+//! a cell, which the robot cannot lend at 12 m. So the way home and the
+//! detours stay A*.
 
 use super::{Fault, Feed, MapMode, Phase, HOME_TRIES};
 use crate::nav::cspace;

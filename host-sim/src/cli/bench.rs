@@ -75,11 +75,15 @@ pub enum BenchCmd {
         #[arg(long)]
         json: bool,
     },
-    /// D* Lite against A* from nothing, as obstacles appear ahead of a robot walking MovingAI problems (nodes and time per replan).
+    /// D* Lite against A* from nothing, as obstacles appear ahead of a robot walking MovingAI problems, or its ways home on a real home (nodes and time per replan).
     Replan {
         /// The .scen file.
+        #[arg(long, required_unless_present = "to_dock", conflicts_with = "to_dock")]
+        scen: Option<PathBuf>,
+        /// Instead of a scenario: ways home to the map's charger (a
+        /// ValetudoMap), on its configuration space for the robot.
         #[arg(long)]
-        scen: PathBuf,
+        to_dock: bool,
         #[command(flatten)]
         map: super::args::MapArgs,
         /// How many problems, the scenario's last (longest).
@@ -200,6 +204,7 @@ pub fn run(which: BenchCmd) -> Result<(), String> {
         BenchCmd::Peers { scen, map, json } => super::bench_peers::run(&scen, &map, json),
         BenchCmd::Replan {
             scen,
+            to_dock: _,
             map,
             problems,
             every,
@@ -214,7 +219,7 @@ pub fn run(which: BenchCmd) -> Result<(), String> {
                 changes,
                 side,
             };
-            super::bench_replan::run(&scen, &map, problems, how, json)
+            super::bench_replan::run(scen.as_deref(), &map, problems, how, json)
         }
         BenchCmd::Coverage {
             maps,

@@ -7,12 +7,14 @@ use std::path::Path;
 use super::args::MapArgs;
 use host_sim::io::scen::parse_scen;
 use host_sim::run::replan::{run_replan, Changes, EngineReplans};
+use host_sim::run::way_home::way_home_problems;
 use serde_json::json;
 
 /// Runs the comparison on the scenario's last `problems` problems (the
-/// longest) and prints it.
+/// longest), or with no scenario on `problems` ways home to the map's
+/// charger ([`host_sim::run::way_home`]), and prints it.
 pub fn run(
-    scen: &Path,
+    scen: Option<&Path>,
     map: &MapArgs,
     problems: usize,
     how: Changes,
@@ -24,11 +26,22 @@ pub fn run(
     if how.side.is_multiple_of(2) || how.side > 15 {
         return Err("--side must be odd and at most 15".into());
     }
-    let bytes = std::fs::read(scen).map_err(|e| format!("{}: cannot read: {e}", scen.display()))?;
-    let all = parse_scen(scen, &bytes).map_err(|e| e.to_string())?;
     let data = map.load()?;
-    let chosen = &all[all.len().saturating_sub(problems)..];
-    let mut rep = run_replan(&data, chosen, how).map_err(|e| e.to_string())?;
+    let (data, chosen, what) = match scen {
+        Some(scen) => {
+            let bytes =
+                std::fs::read(scen).map_err(|e| format!("{}: cannot read: {e}", scen.display()))?;
+            let all = parse_scen(scen, &bytes).map_err(|e| e.to_string())?;
+            let last = all[all.len().saturating_sub(problems)..].to_vec();
+            (data, last, format!("scenario {}", scen.display()))
+        }
+        None => {
+            let (cspace, ways) = way_home_problems(&data, problems).map_err(|e| e.to_string())?;
+            let what = format!("ways home to the charger of {}", map.map.display());
+            (cspace, ways, what)
+        }
+    };
+    let mut rep = run_replan(&data, &chosen, how).map_err(|e| e.to_string())?;
     let (d_us, a_us, f_us) = (
         rep.dstar.median_us(),
         rep.astar.median_us(),
@@ -48,13 +61,8 @@ pub fn run(
         return Ok(());
     }
     println!(
-        "scenario {} ({} problems; a {}x{} obstacle {} cells ahead every {} cells walked)",
-        scen.display(),
-        rep.problems,
-        how.side,
-        how.side,
-        how.ahead,
-        how.every
+        "{} ({} problems; a {}x{} obstacle {} cells ahead every {} cells walked)",
+        what, rep.problems, how.side, how.side, how.ahead, how.every
     );
     println!("engine                       plans  mean nodes  median us");
     for (name, e, us) in [

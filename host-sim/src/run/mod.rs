@@ -23,3 +23,4 @@ mod report_json;
 pub mod rooms;
 pub mod seeds;
 pub mod suite;
+pub mod way_home;
