@@ -31,6 +31,20 @@ proptest! {
         prop_assert!((rr - (n as f64).sqrt()).abs() <= 0.5 + 1e-6 * (n as f64).sqrt().max(1.0) * 1e-6);
     }
 
+    /// The fast roots (Newton on 32 bits, one refining step on 64) against
+    /// the definition, where they are most likely to be off by one: at and
+    /// around perfect squares, small numbers, and the top of each range.
+    #[test]
+    fn isqrt_is_exact_around_squares(s in any::<u32>(), d in -3i64..=3, small in any::<u32>()) {
+        let n = (s as i128 * s as i128 + d as i128).clamp(0, u64::MAX as i128) as u64;
+        for n in [n, n >> 20, small as u64, u64::MAX - (small as u64), u32::MAX as u64 - (small as u64 >> 8)] {
+            let r = isqrt_u64(n) as u128;
+            prop_assert!(r * r <= n as u128 && (r + 1) * (r + 1) > n as u128, "isqrt_u64({n}) = {r}");
+        }
+        let r = robovac::math::cost::isqrt_u32(small) as u64;
+        prop_assert!(r * r <= small as u64 && (r + 1) * (r + 1) > small as u64, "isqrt_u32({small}) = {r}");
+    }
+
     /// CORDIC atan2 is within 1 µrad of f64 over the whole circle, and a
     /// reversal is +π.
     #[test]

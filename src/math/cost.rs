@@ -14,26 +14,54 @@ pub const COST_PER_CELL: u32 = 5741;
 /// Cost of one diagonal step: √2 cell sides, to 1.1·10⁻⁸ relative error.
 pub const COST_DIAGONAL: u32 = 8119;
 
-/// Floor of the square root of `n`, exact for every `u64`.
-pub const fn isqrt_u64(n: u64) -> u64 {
+/// Floor of the square root of `n`, exact for every `u32`.
+///
+/// Integer Newton (Heron) from a power of two at or above √n: the iterates
+/// fall strictly to ⌊√n⌋, and the first one that does not fall is it. Each
+/// step is one 32-bit division, a single `UDIV` on the Cortex-M4; five
+/// steps at most for a 32-bit `n`.
+pub const fn isqrt_u32(n: u32) -> u32 {
     if n < 2 {
         return n;
     }
-    // Bit-by-bit method: no division, constant 32 iterations, exact.
-    let mut rem = n;
-    let mut root = 0u64;
-    // Highest power of four not above n.
-    let mut bit = 1u64 << ((63 - n.leading_zeros()) & !1);
-    while bit != 0 {
-        if rem >= root + bit {
-            rem -= root + bit;
-            root = (root >> 1) + bit;
-        } else {
-            root >>= 1;
+    let bits = 32 - n.leading_zeros();
+    let mut x = 1u32 << bits.div_ceil(2); // ≥ √n, ≤ 2^16
+    loop {
+        // x ≥ ⌊√n⌋ keeps n / x ≤ x + 2, so the sum stays below 2^18.
+        let y = (x + n / x) >> 1;
+        if y >= x {
+            return x;
         }
-        bit >>= 2;
+        x = y;
     }
-    root
+}
+
+/// Floor of the square root of `n`, exact for every `u64`.
+///
+/// Issue 13's search speed: the bit-by-bit method took 32 rounds of 64-bit
+/// arithmetic, most of the Euclidean heuristic's cost on the M4. Here `n`
+/// is shifted by an even count until its top two bits are not both zero
+/// (m = n·4^k ≥ 2^62); the root of m's high word gives its top 16 bits
+/// x = hi·2^16 (hi ≥ 2^15); one Newton step from x gives the low 16 bits
+/// with a single 32-bit division, since the remainder m − x² < 2^49 and
+/// its Newton quotient r / 2x = δ + δ²/2x with δ²/2x < 1 (δ = √m − x < 2^16,
+/// x ≥ 2^31). So x + ⌊r / 2x⌋ is ⌊√m⌋ or one more, and one test settles it.
+/// ⌊√n⌋ = ⌊√m⌋ >> k.
+pub const fn isqrt_u64(n: u64) -> u64 {
+    if n <= u32::MAX as u64 {
+        return isqrt_u32(n as u32) as u64;
+    }
+    let shift = n.leading_zeros() & !1;
+    let m = n << shift;
+    let hi = isqrt_u32((m >> 32) as u32);
+    let x = (hi as u64) << 16;
+    let r = m - x * x;
+    let q = ((r >> 17) as u32 / hi) as u64;
+    let mut y = x + q;
+    if y > u32::MAX as u64 || y * y > m {
+        y -= 1;
+    }
+    y >> (shift / 2)
 }
 
 /// Square root of `n` rounded to the nearest integer.
