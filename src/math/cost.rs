@@ -28,7 +28,13 @@ pub const fn isqrt_u32(n: u32) -> u32 {
     let mut x = 1u32 << bits.div_ceil(2); // ≥ √n, ≤ 2^16
     loop {
         // x ≥ ⌊√n⌋ keeps n / x ≤ x + 2, so the sum stays below 2^18.
-        let y = (x + n / x) >> 1;
+        // x ≥ 1 always; the checked form keeps a panic branch out of the
+        // firmware.
+        let q = match n.checked_div(x) {
+            Some(q) => q,
+            None => return 0,
+        };
+        let y = (x + q) >> 1;
         if y >= x {
             return x;
         }
@@ -56,7 +62,10 @@ pub const fn isqrt_u64(n: u64) -> u64 {
     let hi = isqrt_u32((m >> 32) as u32);
     let x = (hi as u64) << 16;
     let r = m - x * x;
-    let q = ((r >> 17) as u32 / hi) as u64;
+    let q = match ((r >> 17) as u32).checked_div(hi) {
+        Some(q) => q as u64,
+        None => return 0, // never: hi ≥ 2^15
+    };
     let mut y = x + q;
     if y > u32::MAX as u64 || y * y > m {
         y -= 1;
