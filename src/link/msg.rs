@@ -17,6 +17,12 @@ pub const MAP_ROW_BYTES: usize = 128;
 pub type PackedRow = Vec<u8, MAP_ROW_BYTES>;
 
 /// Host → firmware.
+///
+/// `Hello` carries the whole mission configuration and is the largest
+/// variant by far; it comes once per mission, and a message is decoded
+/// into one stack value at a time, so the other variants' unused bytes
+/// cost nothing that lasts (no heap on the chip to box it in).
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Down {
     /// A mission begins: its configuration, the dock's pose and the map's

@@ -4,7 +4,9 @@
 //! once the way is clear. Given up after `avoid_timeout_us`.
 
 use super::config::MAP_POINTS;
-use super::{Activity, Mission, RING};
+use super::events::EventKind;
+use super::{Activity, LocalPlanner, Mission, RING};
+use crate::nav::apf::{self, ApfResult};
 use crate::nav::cspace;
 use crate::nav::dwa::{self, DwaResult, MAX_OBSTACLES};
 use crate::nav::follow::SubPath;
@@ -79,13 +81,58 @@ sized_impl!([] {
                     m.dwa_cmd = (0, 0);
                     return;
                 }
-                self.dwa_step(pose, seg.to);
+                self.local_step(now_us, pose, seg.to);
             }
         }
     }
 
-    pub(super) fn dwa_step(&mut self, pose: &Pose, goal_world: (i32, i32)) {
+    /// One cycle of the local planner the configuration names (DWA or the
+    /// potential field) toward `goal_world`, among the nearest obstacles.
+    pub(super) fn local_step(&mut self, now_us: u64, pose: &Pose, goal_world: (i32, i32)) {
+        let mut obs = [(0i32, 0i32); MAX_OBSTACLES];
+        let k = self.nearest_obstacles(pose, &mut obs);
+        let obs = obs.get(..k).unwrap_or(&[]);
         let m = &mut *self.m;
+        let goal = RobotFrame::of(pose).to_robot(goal_world);
+        let turn = || {
+            // Turn in place toward the goal (a disc cannot hit anything
+            // turning in place).
+            let bearing = crate::math::angle::atan2_mrad(goal.1, goal.0);
+            (0, if bearing >= 0 { 500 } else { -500 })
+        };
+        m.dwa_cmd = match m.cfg.local {
+            LocalPlanner::Dwa => match dwa::plan(&m.cfg.dwa, m.cmd.0.max(0), m.cmd.1, goal, obs) {
+                DwaResult::Command {
+                    v_mm_s, w_mrad_s, ..
+                } => (v_mm_s, w_mrad_s),
+                DwaResult::NoAdmissible => {
+                    m.counters.dwa_no_admissible += 1;
+                    turn()
+                }
+            },
+            LocalPlanner::Apf => match apf::plan(&m.cfg.apf, goal, obs) {
+                ApfResult::Command {
+                    v_mm_s, w_mrad_s, ..
+                } => (v_mm_s, w_mrad_s),
+                ApfResult::LocalMinimum { .. } => {
+                    // A new minimum: 150 mm or more from the last one.
+                    let here = (pose.x_mm, pose.y_mm);
+                    if m.apf_minimum.is_none_or(|p| dist_mm(p, here) >= 150) {
+                        m.apf_minimum = Some(here);
+                        m.counters.apf_minima += 1;
+                        let (x_mm, y_mm) = here;
+                        m.events.push(now_us, EventKind::LocalMinimum { x_mm, y_mm });
+                    }
+                    turn()
+                }
+            },
+        };
+    }
+
+    /// The obstacle points a local planner weighs, robot frame, nearest
+    /// first into `obs`; returns how many.
+    fn nearest_obstacles(&self, pose: &Pose, obs: &mut [(i32, i32); MAX_OBSTACLES]) -> usize {
+        let m = &*self.m;
         // The points stream into the nearest-k selection: no buffer of all
         // of them (it was 4.6 KB of stack, which overflowed the
         // firmware's in the studio at 261 s).
@@ -119,29 +166,9 @@ sized_impl!([] {
             })
             .map(|(x, y)| frame.to_robot(cspace::fine_centre_mm(map, x, y)))
             .take((RING + MAP_POINTS).saturating_sub(ring.len().min(RING)));
-        let mut obs = [(0i32, 0i32); MAX_OBSTACLES];
-        let k = crate::math::select::smallest_k_of(lidar.take(RING).chain(grid), &mut obs, |p| {
+        crate::math::select::smallest_k_of(lidar.take(RING).chain(grid), obs, |p| {
             p.0 as i64 * p.0 as i64 + p.1 as i64 * p.1 as i64
-        });
-        let goal = frame.to_robot(goal_world);
-        m.dwa_cmd = match dwa::plan(
-            &m.cfg.dwa,
-            m.cmd.0.max(0),
-            m.cmd.1,
-            goal,
-            obs.get(..k).unwrap_or(&[]),
-        ) {
-            DwaResult::Command {
-                v_mm_s, w_mrad_s, ..
-            } => (v_mm_s, w_mrad_s),
-            DwaResult::NoAdmissible => {
-                m.counters.dwa_no_admissible += 1;
-                // Turn in place toward the goal (a disc cannot hit anything
-                // turning in place).
-                let bearing = crate::math::angle::atan2_mrad(goal.1, goal.0);
-                (0, if bearing >= 0 { 500 } else { -500 })
-            }
-        };
+        })
     }
 });
 

@@ -3,6 +3,7 @@
 //! the mission layer.
 
 use crate::coverage::PlannerKind;
+use crate::nav::apf::{ApfParams, DEFAULT_APF};
 use crate::nav::dwa::{self, DwaParams};
 use crate::nav::follow::FollowParams;
 use crate::nav::guard::GuardParams;
@@ -155,6 +156,11 @@ pub struct MissionConfig {
     pub follow: FollowParams,
     /// DWA.
     pub dwa: DwaParams,
+    /// Which local planner steers an avoidance: DWA (the default) or the
+    /// potential field, for comparison (issue 13).
+    pub local: LocalPlanner,
+    /// The potential field, when it steers.
+    pub apf: ApfParams,
     /// Guard.
     pub guard: GuardParams,
     /// The lidar's mounting.
@@ -213,6 +219,9 @@ impl MissionConfig {
         let mut dwa = dwa::DEFAULT_PARAMS;
         dwa.radius_mm = radius_mm + 15;
         dwa.v_max_mm_s = 300;
+        let mut apf = DEFAULT_APF;
+        apf.radius_mm = dwa.radius_mm;
+        apf.v_max_mm_s = dwa.v_max_mm_s;
         Self {
             mode,
             prior_saved: false,
@@ -232,6 +241,8 @@ impl MissionConfig {
                 ..crate::nav::follow::DEFAULT_FOLLOW
             },
             dwa,
+            local: LocalPlanner::Dwa,
+            apf,
             guard: GuardParams {
                 radius_mm: radius_mm + 2,
                 brake_mm_s2: 500,
@@ -272,6 +283,7 @@ impl MissionConfig {
         self.guard.radius_mm = self.radius_mm + 2 + noise_mm * 3 / 2;
         self.escape_mm = 2 + noise_mm / 2;
         self.dwa.radius_mm = self.radius_mm + 15 + noise_mm;
+        self.apf.radius_mm = self.dwa.radius_mm;
         self
     }
 }
@@ -295,6 +307,7 @@ impl MissionConfig {
         self.guard.mapped_slack_mm = noise_mm;
         self.escape_mm = 2;
         self.dwa.radius_mm = self.radius_mm + 15 + noise_mm;
+        self.apf.radius_mm = self.dwa.radius_mm;
         self
     }
 }
@@ -338,6 +351,19 @@ impl BatteryParams {
         resume_pm: 800,
         charge_timeout_us: 600_000_000,
     };
+}
+
+/// The local planner that steers an avoidance ([`super::avoid`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum LocalPlanner {
+    /// The dynamic window ([`crate::nav::dwa`]), seed 002's.
+    #[default]
+    Dwa,
+    /// The artificial potential field ([`crate::nav::apf`]), seed 004's;
+    /// its local minima are counted (`Counters::apf_minima`) and logged.
+    Apf,
 }
 
 /// Event counters.
@@ -396,6 +422,9 @@ pub struct Counters {
     /// fit in one fine search window, or the window held no way between
     /// them ([`super::route`]).
     pub routes: u32,
+    /// Local minima of the potential field met while it steered (entries
+    /// into one; 0 with DWA).
+    pub apf_minima: u32,
     /// Rooms entered, the first one included (0 without a room tour,
     /// [`super::rooms`]).
     pub rooms_entered: u32,
@@ -427,6 +456,7 @@ impl Counters {
             handoff_dropped: 0,
             events_dropped: 0,
             routes: 0,
+            apf_minima: 0,
             rooms_entered: 0,
         }
     }

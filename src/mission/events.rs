@@ -71,6 +71,16 @@ pub enum EventKind {
         /// was touched, or the spot was marked already).
         marked: u8,
     },
+    /// The potential field, steering an avoidance, reached a local
+    /// minimum: its force vanished short of the sub-goal
+    /// ([`crate::nav::apf`]). The robot turns toward the sub-goal until
+    /// the avoidance times out and the leg is planned again.
+    LocalMinimum {
+        /// Where the robot was, mm.
+        x_mm: i32,
+        /// North, mm.
+        y_mm: i32,
+    },
     /// A wheel stalled with nothing the lidar sees against the body (a
     /// cable, a rug's edge): the robot backs off and plans the leg again
     /// around the spot.

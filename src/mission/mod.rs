@@ -131,8 +131,8 @@ pub mod parts;
 pub mod reflex;
 
 pub use config::{
-    Counters, Fault, MapMode, MissionConfig, MotorCmd, State, HOME_TRIES, MAX_RETRIES, QUEUE, RING,
-    SCAN_FRAMES,
+    Counters, Fault, LocalPlanner, MapMode, MissionConfig, MotorCmd, State, HOME_TRIES,
+    MAX_RETRIES, QUEUE, RING, SCAN_FRAMES,
 };
 pub use events::{Capacity, Event, EventKind, EVENTS};
 pub use handoff::HANDOFF;
@@ -252,6 +252,10 @@ pub struct Mission {
     activity: Activity,
     cmd: (i32, i32),
     dwa_cmd: (i32, i32),
+    /// Where the potential field last held the robot in a local minimum,
+    /// mm (so that one minimum is counted once, however often the robot,
+    /// turning in it, steps in and out of it).
+    apf_minimum: Option<(i32, i32)>,
     handoff: Handoff,
     events: Events,
     phase: Phase,
@@ -349,6 +353,7 @@ impl Mission {
             activity: Activity::Follow,
             cmd: (0, 0),
             dwa_cmd: (0, 0),
+            apf_minimum: None,
             handoff: Handoff::new(),
             events: Events::new(),
             phase: Phase::Idle,

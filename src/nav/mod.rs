@@ -1,7 +1,8 @@
 //! Navigation: the configuration space from the evidence map, the path
-//! follower, the speed guard, DWA, the edge pass and the geometry they
+//! follower, the speed guard, DWA and the potential field, the edge pass and the geometry they
 //! share. Uses `math`, `grid`, `search` and `robot`.
 
+pub mod apf;
 pub mod chord;
 pub mod cspace;
 pub mod dwa;

@@ -20,6 +20,25 @@ pub enum ModeArg {
     Unknown,
 }
 
+/// The local planner that steers an avoidance.
+#[derive(Clone, Copy, ValueEnum)]
+pub enum LocalArg {
+    /// The dynamic window (seed 002's; the default).
+    Dwa,
+    /// The artificial potential field (seed 004's), for comparison: its
+    /// local minima are counted and logged.
+    Apf,
+}
+
+impl From<LocalArg> for robovac::mission::LocalPlanner {
+    fn from(l: LocalArg) -> Self {
+        match l {
+            LocalArg::Dwa => Self::Dwa,
+            LocalArg::Apf => Self::Apf,
+        }
+    }
+}
+
 #[derive(Clone, Copy, ValueEnum)]
 pub enum AlgoArg {
     /// A* with the Euclidean heuristic (seed 000's Table 1).

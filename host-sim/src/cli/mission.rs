@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::args::{load_world_map, parse_point, write_file, MapArgs, ModeArg, NoiseArg};
+use super::args::{load_world_map, parse_point, write_file, LocalArg, MapArgs, ModeArg, NoiseArg};
 use super::progress;
 use host_sim::run::mission::{MissionOptions, MissionTrace};
 use host_sim::sim::objects::{parse as parse_object, LowKind, LowObject};
@@ -45,6 +45,12 @@ pub struct Args {
     /// binn, wavefront, stc or bcd.
     #[arg(long, default_value = "b-oha")]
     pub planner: String,
+    /// The local planner that steers round what the map does not explain
+    /// (people, moved furniture): dwa, or apf (the potential field, for
+    /// comparison; its local minima are counted in the JSON and shown by
+    /// --events and in the SVG).
+    #[arg(long, value_enum, default_value = "dwa")]
+    pub local: LocalArg,
     /// Silence the lidar from A to B seconds (A,B) to exercise the fault.
     #[arg(long, value_parser = parse_point)]
     pub lidar_gap: Option<(f64, f64)>,
@@ -215,6 +221,7 @@ fn options(a: &Args) -> Result<MissionOptions, String> {
         max_time_s: a.max_time,
         start: a.start,
         kind,
+        local: a.local.into(),
         lidar_gap_s: a.lidar_gap,
         faults: host_sim::run::inject::Faults {
             lidar_garbage_s: a.lidar_garbage,

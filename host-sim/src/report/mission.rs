@@ -158,6 +158,23 @@ fn rooms_svg(c: &mut Canvas, rooms: &crate::run::rooms::RoomView) {
     }
 }
 
+/// The potential field's local minima (`--local apf`), as black diamonds
+/// where the robot believed it was; returns how many.
+fn local_minima_svg(c: &mut Canvas, events: &[robovac::mission::Event]) -> usize {
+    let mut n = 0;
+    for e in events {
+        if let robovac::mission::EventKind::LocalMinimum { x_mm, y_mm } = e.kind {
+            let (x, y) = c.px((x_mm as f64 / 1000.0, y_mm as f64 / 1000.0));
+            c.raw(&format!(
+                "<path d=\"M{x:.1},{:.1} l7,7 l-7,7 l-7,-7 z\" fill=\"#000\"/>\n",
+                y - 7.0
+            ));
+            n += 1;
+        }
+    }
+    n
+}
+
 /// The mission as an SVG: the ground truth, the swept floor shaded (missed
 /// reachable floor in red), the trajectory, people's tracks, avoidances
 /// (blue rings) and collisions (red crosses: the robot's; orange: a person
@@ -231,6 +248,7 @@ pub fn mission_svg(
             y - 6.0
         ));
     }
+    let minima = local_minima_svg(&mut c, &t.events);
     let (x, y) = c.px(t.start);
     c.raw(&format!(
         "<rect x=\"{:.1}\" y=\"{:.1}\" width=\"12\" height=\"12\" fill=\"#2ca02c\" stroke=\"#000\"/>\n",
@@ -267,7 +285,8 @@ pub fn mission_svg(
             rep.dock_error_mm,
             rep.dock_heading_error_mrad
         ),
-        "green: swept · red: reachable floor missed · blue line: robot (truth) · pink dashes: its own estimate · orange: people · rings: avoidances · crosses: collisions · square: dock · grey: the vendor robot's paths · red hatched: no-go areas, red lines: virtual walls · brown: sofas and crossbars, purple dashes: cables (dots: wheel snags)".to_string(),
+        "green: swept · red: reachable floor missed · blue line: robot (truth) · pink dashes: its own estimate · orange: people · rings: avoidances · crosses: collisions · square: dock · grey: the vendor robot's paths · red hatched: no-go areas, red lines: virtual walls · brown: sofas and crossbars, purple dashes: cables (dots: wheel snags)".to_string()
+            + if minima > 0 { " · black diamonds: the potential field's local minima" } else { "" },
     ];
     c.finish(&lines)
 }

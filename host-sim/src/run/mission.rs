@@ -52,6 +52,8 @@ pub struct MissionOptions {
     pub start: Option<(f64, f64)>,
     /// Coverage planner.
     pub kind: PlannerKind,
+    /// The local planner that steers an avoidance.
+    pub local: robovac::mission::LocalPlanner,
     /// Silence the lidar between these sim times (s), to exercise the fault.
     pub lidar_gap_s: Option<(f64, f64)>,
     /// Bad input on the wire: garbage and overruns in the lidar stream,
@@ -108,6 +110,7 @@ impl MissionOptions {
             max_time_s: 10800.0,
             start: None,
             kind: PlannerKind::BOha,
+            local: Default::default(),
             lidar_gap_s: None,
             faults: Default::default(),
             start_heading: None,
@@ -502,6 +505,7 @@ fn mission_config(opts: &MissionOptions, cfg: &RobotConfig, r: f64) -> MissionCo
     let mut mcfg = MissionConfig::new(opts.mode, cfg.geometry(), cfg.gains, MOUNT);
     mcfg.kind = opts.kind;
     mcfg.localize = opts.localize;
+    mcfg.local = opts.local;
     mcfg.prior_saved = opts.map_store.load.is_some();
     mcfg.radius_mm = (r * 1000.0).round() as i32;
     if opts.noise.noisy() {

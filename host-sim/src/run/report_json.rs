@@ -25,6 +25,10 @@ struct CountersJson {
     retried: u32,
     scans: u32,
     plan_steps: u32,
+    /// Local minima the potential field met (only with `--local apf`;
+    /// left out when 0).
+    #[serde(skip_serializing_if = "is_zero")]
+    apf_local_minima: u32,
     /// Long ways routed on the planning cells (only at the firmware's
     /// capacity; left out when 0).
     #[serde(skip_serializing_if = "is_zero")]
@@ -64,6 +68,7 @@ pub(super) fn counters_json<S: serde::Serializer>(
             retried: c.retried,
             scans: c.scans,
             plan_steps: c.plan_steps,
+            apf_local_minima: c.apf_minima,
             routes: c.routes,
             bumps: c.bumps,
             bump_marks: c.bump_marks,
