@@ -63,6 +63,10 @@ pub enum BenchCmd {
         /// (the whole home cleaned, as issue 10's figures were measured).
         #[arg(long)]
         no_map_zones: bool,
+        /// The local planner that steers the avoidances: dwa, or apf (the
+        /// potential field; its local minima are counted).
+        #[arg(long, value_enum, default_value = "dwa")]
+        local: super::args::LocalArg,
     },
     /// Our A* against the `pathfinding` crate's, on the same MovingAI queries in one run (medians and their ratio).
     Peers {
@@ -190,6 +194,7 @@ pub fn run(which: BenchCmd) -> Result<(), String> {
             people,
             noise,
             no_map_zones,
+            local,
         } => {
             let noises: Vec<_> = noise.into_iter().map(Into::into).collect();
             let maps = super::bench_missions::suite_map_names(&maps)?;
@@ -198,6 +203,7 @@ pub fn run(which: BenchCmd) -> Result<(), String> {
                 people: &people,
                 noises: &noises,
                 map_zones: !no_map_zones,
+                local: local.into(),
             };
             super::bench_missions::run(runs, seed, max_time, threads, json.as_deref(), &sel)
         }

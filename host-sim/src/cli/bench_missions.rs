@@ -16,6 +16,8 @@ pub struct SuiteSelection<'a> {
     pub noises: &'a [host_sim::sim::robot::Noise],
     /// The maps' own no-go zones and virtual walls kept.
     pub map_zones: bool,
+    /// The local planner that steers the avoidances.
+    pub local: robovac::mission::LocalPlanner,
 }
 
 /// Map names from the command line (`flats`, `homes` or single names).
@@ -61,9 +63,16 @@ pub fn run(
         .max(1);
     let t0 = Instant::now();
     let pb = progress::bar(cases.len(), "missions");
-    let results = run_suite(&cases, max_time, threads, sel.map_zones, |done, _| {
-        pb.set_position(done as u64);
-    });
+    let results = run_suite(
+        &cases,
+        max_time,
+        threads,
+        sel.map_zones,
+        sel.local,
+        |done, _| {
+            pb.set_position(done as u64);
+        },
+    );
     pb.finish_and_clear();
     let wall = t0.elapsed().as_secs_f64();
     let mut rows = Vec::new();
@@ -189,6 +198,10 @@ fn print_suite_summary(
         "collisions (the robot moving into something): {total_coll} over {} missions",
         rows.len()
     );
+    let minima: u32 = rows.iter().map(|(_, r)| r.counters.apf_minima).sum();
+    if minima > 0 {
+        println!("local minima of the potential field (--local apf): {minima}");
+    }
     for (mode, label) in [
         (robovac::mission::MapMode::Known, "known"),
         (robovac::mission::MapMode::Unknown, "unknown"),

@@ -118,6 +118,7 @@ pub fn run_suite(
     max_time_s: f64,
     threads: usize,
     map_zones: bool,
+    local: robovac::mission::LocalPlanner,
     progress: impl Fn(usize, usize) + Sync,
 ) -> Vec<Result<MissionReport, String>> {
     use rayon::prelude::*;
@@ -130,6 +131,7 @@ pub fn run_suite(
             }
             let mut opts = MissionOptions::new(map, c.mode, c.people, c.noise, c.seed);
             opts.max_time_s = max_time_s;
+            opts.local = local;
             run_mission(&opts, |_, _, _| {}).map(|(rep, _, _)| rep)
         });
         progress(done.fetch_add(1, Ordering::SeqCst) + 1, cases.len());
