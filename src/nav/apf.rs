@@ -39,11 +39,9 @@
 //! (and farther than 100 mm from the goal); the tests show a wall ahead
 //! turning the robot, a clear way driven straight, and a pocket reported.
 
+pub use super::dwa::PointMm;
 use crate::math::angle::{atan2_mrad, sin_cos_q30};
 use crate::math::cost::isqrt_u64;
-
-/// A point in the robot frame, mm (x forward, y left).
-pub type PointMm = (i32, i32);
 
 /// The field's gains and the command's limits (units in the names).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -165,7 +163,8 @@ pub fn plan(p: &ApfParams, goal: PointMm, obstacles: &[PointMm]) -> ApfResult {
     }
 }
 
-/// |(x, y)|, rounded down.
+/// |(x, y)|, rounded down. Not `geometry::dist_mm`: the force's sums
+/// exceed `i32`, and squares of full-range `i32` points overflow `i64`.
 fn norm(x: i64, y: i64) -> i64 {
     let s = (x as i128 * x as i128 + y as i128 * y as i128).min(u64::MAX as i128);
     isqrt_u64(s as u64) as i64
