@@ -211,14 +211,15 @@ mod emu {
 
         // --- Seed 000 Table 1 maps ------------------------------------------
         let mut rng = SplitMix64::new(1);
-        let mut sums = [(0u64, 0u64, 0u64); 4]; // (instructions, nodes, cost)
-        let mut max_insn = [0u64; 4];
+        let mut sums = [(0u64, 0u64, 0u64); 5]; // (instructions, nodes, cost)
+        let mut max_insn = [0u64; 5];
         let mut done = 0u32;
         let algos = [
             (Algo::AStar, "A*"),
             (Algo::Oha, "OHA*"),
             (Algo::Theta, "Theta*"),
             (Algo::AStarOctile, "A* octile"),
+            (Algo::Jps, "JPS"),
         ];
         while done < INSTANCES {
             let Ok(Some((s, t))) = table1_instance(GRID, &mut rng, TABLE1_MAP, TABLE1_CORNER)
@@ -252,7 +253,7 @@ mod emu {
                     if c != st.cost {
                         fail("reported cost differs from the path's");
                     }
-                    if *algo == Algo::AStar || *algo == Algo::AStarOctile {
+                    if matches!(*algo, Algo::AStar | Algo::AStarOctile | Algo::Jps) {
                         if st.cost != opt {
                             fail("A* cost differs from the independent Dijkstra");
                         }

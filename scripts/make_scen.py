@@ -7,6 +7,7 @@ corner cutting (a diagonal step needs both orthogonal neighbours passable),
 which is the MovingAI convention. Outputs go to maps/movingai/.
 
 Usage: python3 scripts/make_scen.py [--eightroom PATH_TO_8room_001.map]
+       python3 scripts/make_scen.py --maze512   (only maze512.map, its own seed)
 """
 import heapq, math, random, sys, os
 
@@ -138,8 +139,24 @@ def open_area(rng, w=96, h=72):
     return rows
 
 
+def maze512():
+    """A 512 x 512 maze of one-cell corridors, the size and corridor width
+    of the Moving AI Lab's maze512-1-* maps, with its own seed so that the
+    other maps stay as they are."""
+    rng = random.Random(512)
+    rows = corridors(rng, w=511, h=511)
+    for r in rows:
+        r.append('@')
+    rows.append(['@'] * 512)
+    write_map('maze512.map', rows)
+    make_scen('maze512.map', rows, rng, 30, 10)
+
+
 def main():
     os.makedirs(OUT, exist_ok=True)
+    if sys.argv[1:] == ['--maze512']:
+        maze512()
+        return
     rng = random.Random(2026)
     for name, gen, starts, per in (('rooms64.map', rooms, 20, 10),
                                    ('maze49.map', corridors, 20, 10),

@@ -50,7 +50,7 @@ proptest! {
         let dist = dijkstra(&g, s);
         let opt = dist[(t.y as u32 * g.width() + t.x as u32) as usize];
         let mut st = new_state();
-        for algo in [Algo::AStar, Algo::Oha, Algo::Theta, Algo::AStarOctile, Algo::Bfs, Algo::Dfs] {
+        for algo in [Algo::AStar, Algo::Oha, Algo::Theta, Algo::AStarOctile, Algo::Bfs, Algo::Dfs, Algo::Jps] {
             match run(&mut st, &g, s, &[t], algo) {
                 Ok((stats, path)) => {
                     prop_assert!(opt.is_finite(), "{algo:?} found a path where none exists");
@@ -69,7 +69,7 @@ proptest! {
                     } else {
                         let len = check_grid_path(&g, &path);
                         prop_assert!((stats.cost as f64 / 5741.0 - len).abs() < 1e-6 * (1.0 + len));
-                        if algo == Algo::AStar || algo == Algo::AStarOctile {
+                        if matches!(algo, Algo::AStar | Algo::AStarOctile | Algo::Jps) {
                             prop_assert!((len - opt).abs() < 1e-6, "{algo:?} {len} vs optimum {opt}");
                         } else {
                             prop_assert!(len >= opt - 1e-6);
@@ -93,6 +93,35 @@ proptest! {
         }
     }
 
+    /// Jump point search on maps wider than its 31-cell row words, with
+    /// long open runs: the same cost as A* octile (the optimum) and a valid
+    /// cell-by-cell path. (Not always fewer nodes: on a short query the
+    /// start's jumps can outnumber A*'s few expansions.)
+    #[test]
+    fn jps_matches_astar_octile_on_wide_maps(seed in any::<u64>(), w in 20u32..128, h in 2u32..64, density in 0u32..30, pick in any::<(u32, u32)>()) {
+        let h = h.min(4096 / w); // the test grid's capacity
+        let g = random_grid(w, h, density, seed);
+        let cells = free_cells(&g);
+        prop_assume!(cells.len() >= 2);
+        let s = cells[pick.0 as usize % cells.len()];
+        let t = cells[pick.1 as usize % cells.len()];
+        let mut st = new_state();
+        let want = run(&mut st, &g, s, &[t], Algo::AStarOctile);
+        let got = run(&mut st, &g, s, &[t], Algo::Jps);
+        match (want, got) {
+            (Ok((a, _)), Ok((j, path))) => {
+                prop_assert_eq!(a.cost, j.cost);
+                prop_assert_eq!(path.first().copied(), Some(s));
+                prop_assert_eq!(path.last().copied(), Some(t));
+                prop_assert_eq!(j.path_cells as usize, path.len());
+                let len = check_grid_path(&g, &path);
+                prop_assert!((j.cost as f64 / 5741.0 - len).abs() < 1e-6 * (1.0 + len));
+            }
+            (Err(a), Err(j)) => prop_assert_eq!(a, j),
+            (a, j) => prop_assert!(false, "A* octile {a:?}, JPS {j:?}"),
+        }
+    }
+
     /// Multi-goal A* reaches the goal nearest by true path cost.
     #[test]
     fn multi_goal_reaches_nearest(seed in any::<u64>(), w in 4u32..40, h in 4u32..40, density in 0u32..35, k in 1usize..10, pick in any::<u64>()) {
@@ -105,7 +134,7 @@ proptest! {
         let dist = dijkstra(&g, s);
         let best = goals.iter().map(|t| dist[(t.y as u32 * g.width() + t.x as u32) as usize]).fold(f64::INFINITY, f64::min);
         let mut st = new_state();
-        for algo in [Algo::AStar, Algo::AStarOctile] {
+        for algo in [Algo::AStar, Algo::AStarOctile, Algo::Jps] {
             match run(&mut st, &g, s, &goals, algo) {
                 Ok((stats, path)) => {
                     prop_assert!(goals.contains(&stats.goal));

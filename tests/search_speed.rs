@@ -210,3 +210,23 @@ proptest! {
         prop_assert!(b.test_and_set(640 + 5), "beyond the capacity reads as set");
     }
 }
+
+proptest! {
+    /// Jump point search's 32-bit window read equals 32 plain reads from
+    /// any start, below 0 and beyond the capacity included (both read 0).
+    #[test]
+    fn window_matches_plain_reads(bits in proptest::collection::vec(any::<bool>(), 0..640), at in -40isize..680) {
+        let mut b: Bits<{ 640 / 32 }> = Bits::new();
+        for (i, &v) in bits.iter().enumerate() {
+            b.put(i, v);
+        }
+        let mut want = 0u32;
+        for j in 0..32isize {
+            let i = at + j;
+            if i >= 0 && b.get(i as usize) {
+                want |= 1 << j;
+            }
+        }
+        prop_assert_eq!(b.window(at), want);
+    }
+}

@@ -74,6 +74,15 @@ fn movingai_astar_is_optimal() {
             q["mean_nodes_expanded"].as_f64().unwrap()
                 <= j["mean_nodes_expanded"].as_f64().unwrap()
         );
+        // Jump point search: optimal, and only the jump points expanded.
+        let p = json(&["scen", &scen, "--map", &map, "--algo", "jps", "--json"]);
+        assert_eq!(p["optimal_mismatches"], 0, "{m}: {p}");
+        assert_eq!(p["solved"], p["problems"]);
+        assert!(
+            p["mean_nodes_expanded"].as_f64().unwrap()
+                < q["mean_nodes_expanded"].as_f64().unwrap() / 2.0,
+            "{m}: {p}"
+        );
     }
 }
 
@@ -109,13 +118,14 @@ fn bench_peers_runs_both_engines_on_the_same_queries() {
         "--json",
     ]);
     let engines = j["engines"].as_array().unwrap();
-    assert_eq!(engines.len(), 3);
+    assert_eq!(engines.len(), 4);
     for e in engines {
         assert_eq!(e["solved"], j["problems"], "{e}");
         assert_eq!(e["optimal_mismatches"], 0, "{e}");
         assert!(e["median_us"].as_f64().unwrap() > 0.0);
     }
     assert!(j["ratio"].as_f64().unwrap() > 0.0);
+    assert!(j["jps_ratio"].as_f64().unwrap() > 0.0);
     let out = bin()
         .args([
             "bench",

@@ -271,6 +271,50 @@ impl<const NW: usize> Grid<NW> {
         self.obstacle.get(i)
     }
 
+    /// The obstacle bits of cells x ..= x + 31 of rows y − 1, y and y + 1,
+    /// as bits 0..32 of three words; cells off the map read blocked (1).
+    /// Jump point search's row scan ([`crate::search::jps`]): 32 cells of
+    /// a row and of the rows beside it in six word reads, the map's side
+    /// edges worked out once for the three.
+    #[inline]
+    pub(crate) fn rows3(&self, x: i32, y: i32) -> [u32; 3] {
+        let (w, h) = (self.width as isize, self.height as i32);
+        let on_map = self.row_mask(x);
+        let at = y as isize * w + x as isize;
+        let read = |dy: i32, step: isize| {
+            if (0..h).contains(&(y + dy)) {
+                (self.obstacle.window(at + step) & on_map) | !on_map
+            } else {
+                u32::MAX
+            }
+        };
+        [read(-1, -w), read(0, 0), read(1, w)]
+    }
+
+    /// A reader of the three columns x − 1, x, x + 1, row by row
+    /// ([`Column3::read`]): jump point search's column scan, with the
+    /// map's side edges worked out once per scan.
+    #[inline]
+    pub(crate) fn column3(&self, x: i32) -> Column3<'_, NW> {
+        Column3 {
+            grid: self,
+            x0: x - 1,
+            on_map: self.row_mask(x - 1) & 0b111,
+            w: self.width as i32,
+        }
+    }
+
+    /// The bits 0..32 of a row word from column `x` that lie on the map.
+    #[inline]
+    fn row_mask(&self, x: i32) -> u32 {
+        let lo = (-x).clamp(0, 32) as u32;
+        let hi = (self.width as i32 - x).clamp(0, 32) as u32;
+        if lo >= hi {
+            return 0;
+        }
+        ((1u64 << hi) - (1u64 << lo)) as u32
+    }
+
     /// The free 8-neighbours of (x, y), which must be on the map: bit k is
     /// set when neighbour k is on the map and not an obstacle, k counting
     /// E, NE, N, NW, W, SW, S, SE (y grows downward; the order of
@@ -315,7 +359,13 @@ impl<const NW: usize> Grid<NW> {
     /// [`Grid::moves`] of the cell at linear index `i` = (x, y).
     #[inline(always)]
     pub fn moves_at(&self, i: usize, x: i32, y: i32) -> u32 {
-        let free = self.free_neighbours_at(i, x, y);
+        Self::moves_of(self.free_neighbours_at(i, x, y))
+    }
+
+    /// The moves allowed by a mask of free neighbours
+    /// ([`Grid::free_neighbours`]).
+    #[inline(always)]
+    pub fn moves_of(free: u32) -> u32 {
         // Straight moves are the even k; a diagonal k needs k - 1 and
         // k + 1 (mod 8) free.
         let straight = free & 0b0101_0101;
@@ -396,4 +446,28 @@ fn trim_cr(mut line: &[u8]) -> &[u8] {
         line = rest;
     }
     line
+}
+
+/// Three adjacent columns of a grid's obstacle bits, read a row at a time
+/// ([`Grid::column3`]).
+pub(crate) struct Column3<'a, const NW: usize> {
+    grid: &'a Grid<NW>,
+    /// The first column (x − 1).
+    x0: i32,
+    /// Which of the three columns lie on the map.
+    on_map: u32,
+    w: i32,
+}
+
+impl<const NW: usize> Column3<'_, NW> {
+    /// The obstacle bits of the three cells of row `y` as bits 0, 1, 2;
+    /// cells off the map read blocked.
+    #[inline(always)]
+    pub(crate) fn read(&self, y: i32) -> u32 {
+        if y < 0 || y >= self.grid.height as i32 {
+            return 0b111;
+        }
+        let at = y as isize * self.w as isize + self.x0 as isize;
+        (self.grid.obstacle.window(at) & self.on_map) | (0b111 & !self.on_map)
+    }
 }

@@ -52,6 +52,23 @@ impl<const NW: usize> Bits<NW> {
         (lo | hi) & 0b111
     }
 
+    /// Bits `i ..= i + 31` as bits 0..32 of the result; bits below 0 or
+    /// beyond the capacity read `false`. Jump point search scans a row 32
+    /// cells at a time with it ([`crate::search::jps`]).
+    #[inline]
+    pub fn window(&self, i: isize) -> u32 {
+        if i <= -32 {
+            return 0;
+        }
+        if i < 0 {
+            return self.window(0) << i.unsigned_abs();
+        }
+        let (k, s) = ((i as usize) >> 5, (i & 31) as u32);
+        let lo = self.words.get(k).copied().unwrap_or(0) as u64;
+        let hi = self.words.get(k + 1).copied().unwrap_or(0) as u64;
+        ((lo | hi << 32) >> s) as u32
+    }
+
     /// The eight bits around bit `i` of a raster `w` bits wide, as bits
     /// 0..8 in the order E, NE, N, NW, W, SW, S, SE (y grows downward; the
     /// order of `search::NEIGHBOURS`): three reads of three bits, one per

@@ -11,6 +11,7 @@
 pub mod apf;
 pub mod dstar_lite;
 pub mod heuristics;
+pub mod jps;
 pub mod open_list;
 pub mod prune;
 pub mod run;

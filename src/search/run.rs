@@ -114,25 +114,39 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
             return Err(SearchError::MapChanged);
         }
         if self.algo == Algo::AStarOctile {
-            self.drive::<true, GW>(grid, budget)
+            self.drive::<OCTILE, GW>(grid, budget)
+        } else if self.algo != Algo::Jps {
+            self.drive::<GENERIC, GW>(grid, budget)
         } else {
-            self.drive::<false, GW>(grid, budget)
+            self.drive_jumps(grid, budget)
         }
     }
 
-    /// The loop of [`SearchState::resume`], compiled twice (issue 13,
-    /// search speed): `OCT` for A* octile, whose key, open list and
-    /// neighbour test are then fixed at compile time (no per-neighbour
-    /// dispatch on the algorithm), and once for every other algorithm.
+    /// [`Self::drive`] for jump point search, out of line so that the
+    /// other two loops compile as they did without it.
+    #[inline(never)]
+    fn drive_jumps<const GW: usize>(
+        &mut self,
+        grid: &Grid<GW>,
+        budget: u32,
+    ) -> Result<Progress, SearchError> {
+        self.drive::<JUMPS, GW>(grid, budget)
+    }
+
+    /// The loop of [`SearchState::resume`], compiled three times (issue
+    /// 13, search speed): [`OCTILE`] for A* octile, whose key, open list
+    /// and neighbour test are then fixed at compile time (no per-neighbour
+    /// dispatch on the algorithm), [`JUMPS`] for jump point search
+    /// ([`super::jps`]), and [`GENERIC`] for every other algorithm.
     #[inline(always)]
-    fn drive<const OCT: bool, const GW: usize>(
+    fn drive<const MODE: u8, const GW: usize>(
         &mut self,
         grid: &Grid<GW>,
         budget: u32,
     ) -> Result<Progress, SearchError> {
         let mut left = budget;
         while left > 0 {
-            let popped = if OCT {
+            let popped = if MODE == OCTILE {
                 self.open.dial_pop()
             } else {
                 self.open.pop()
@@ -153,9 +167,11 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
                 self.found = e.idx;
                 return Ok(Progress::Found(self.stats(e.idx)));
             }
-            let expanded = if OCT {
+            let expanded = if MODE == OCTILE {
                 let (x, y) = cell.xy();
                 self.expand_octile(i, (x, y), self.open_moves(grid, i, (x, y)))
+            } else if MODE == JUMPS {
+                self.expand_jps(grid, i, cell.xy())
             } else {
                 self.expand(grid, i, cell)
             };
@@ -224,7 +240,7 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
     /// straight to it, in plain 32-bit arithmetic (cells are `u16`, so
     /// 65,535 × 8,119 < 2^30 cannot overflow: no saturating steps).
     #[inline(always)]
-    fn octile_h(&self, x: i32, y: i32) -> u32 {
+    pub(super) fn octile_h(&self, x: i32, y: i32) -> u32 {
         if self.goal_count == 1 {
             let g = self.goals[0];
             let dx = (g.x as i32 - x).unsigned_abs() & 0xFFFF;
@@ -287,13 +303,19 @@ impl<const N: usize, const NW: usize, const OPEN: usize> SearchState<N, NW, OPEN
         let h = match self.algo {
             Algo::AStar | Algo::Theta => heuristics::euclidean(s, self.goals()),
             Algo::Oha => heuristics::oha(s, self.start, self.goals()),
-            Algo::AStarOctile => heuristics::octile_nearest(s, self.goals()),
+            Algo::AStarOctile | Algo::Jps => heuristics::octile_nearest(s, self.goals()),
             Algo::Bfs => return n,
             Algo::Dfs => return u32::MAX - n,
         };
         g.saturating_add(h)
     }
 }
+
+/// [`SearchState::drive`]'s modes: A* octile's loop, jump point search's,
+/// and every other algorithm's.
+const OCTILE: u8 = 0;
+const JUMPS: u8 = 1;
+const GENERIC: u8 = 2;
 
 /// The step cost of each move, in the order of [`NEIGHBOURS`] (the odd
 /// ones diagonal).

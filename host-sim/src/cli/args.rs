@@ -45,6 +45,9 @@ pub enum AlgoArg {
     Astar,
     /// A* with the integer octile heuristic (optimal, fastest).
     AstarOctile,
+    /// Jump point search: A* octile's costs, only the jump points pushed
+    /// (optimal, fastest on open rooms).
+    Jps,
     /// Breadth-first search (fewest moves; a baseline).
     Bfs,
     /// Depth-first search (some path; a baseline).
@@ -64,6 +67,7 @@ impl AlgoArg {
         match self {
             AlgoArg::Astar => Engine::BestFirst(Algo::AStar),
             AlgoArg::AstarOctile => Engine::BestFirst(Algo::AStarOctile),
+            AlgoArg::Jps => Engine::BestFirst(Algo::Jps),
             AlgoArg::Bfs => Engine::BestFirst(Algo::Bfs),
             AlgoArg::Dfs => Engine::BestFirst(Algo::Dfs),
             AlgoArg::Oha => Engine::BestFirst(Algo::Oha),

@@ -23,7 +23,8 @@ pub fn run(scen: &Path, map: &MapArgs, as_json: bool) -> Result<(), String> {
                        "median_us": e.median_us, "total_us": e.total_us})
             })
             .collect();
-        let out = json!({"problems": rep.problems, "engines": engines, "ratio": rep.ratio});
+        let out = json!({"problems": rep.problems, "engines": engines, "ratio": rep.ratio,
+                       "jps_ratio": rep.jps_ratio});
         println!("{out}");
         return Ok(());
     }
@@ -40,5 +41,9 @@ pub fn run(scen: &Path, map: &MapArgs, as_json: bool) -> Result<(), String> {
         );
     }
     println!("pathfinding median / ours (A* octile): {:.2}x", rep.ratio);
+    println!(
+        "pathfinding median / ours (JPS):       {:.2}x",
+        rep.jps_ratio
+    );
     Ok(())
 }

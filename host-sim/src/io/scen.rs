@@ -122,6 +122,7 @@ pub fn algo_name(a: Algo) -> &'static str {
         Algo::AStarOctile => "astar-octile",
         Algo::Bfs => "bfs",
         Algo::Dfs => "dfs",
+        Algo::Jps => "jps",
     }
 }
 

@@ -42,10 +42,14 @@ pub struct EngineFigures {
 pub struct PeersReport {
     /// Problems in the scenario.
     pub problems: usize,
-    /// Ours (A* octile), ours with the Euclidean heuristic, `pathfinding`.
+    /// Ours (A* octile), ours with the Euclidean heuristic, ours with jump
+    /// points, `pathfinding`.
     pub engines: Vec<EngineFigures>,
     /// `pathfinding`'s median over ours (A* octile).
     pub ratio: f64,
+    /// `pathfinding`'s median over ours with jump points (the same graph,
+    /// costs and heuristic; only jump points pushed).
+    pub jps_ratio: f64,
 }
 
 /// The free 8-neighbours of `c` with their step costs, as our search
@@ -92,7 +96,12 @@ pub fn run_peers(map: &MapData, problems: &[Problem]) -> Result<PeersReport, Map
     map.to_grid(&mut *grid)?;
     let mut state = new_search();
     let mut path = vec![Cell::default(); grid.cells()];
-    let names = ["ours: A* octile", "ours: A* Euclidean", "pathfinding 4 A*"];
+    let names = [
+        "ours: A* octile",
+        "ours: A* Euclidean",
+        "ours: JPS",
+        "pathfinding 4 A*",
+    ];
     let mut figs: Vec<EngineFigures> = names
         .iter()
         .map(|n| EngineFigures {
@@ -103,7 +112,10 @@ pub fn run_peers(map: &MapData, problems: &[Problem]) -> Result<PeersReport, Map
     let mut times: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
     for (k, p) in problems.iter().enumerate() {
         check_size(map, k, p)?;
-        for (e, algo) in [Algo::AStarOctile, Algo::AStar].into_iter().enumerate() {
+        for (e, algo) in [Algo::AStarOctile, Algo::AStar, Algo::Jps]
+            .into_iter()
+            .enumerate()
+        {
             let t0 = Instant::now();
             let n = state
                 .search(&*grid, p.start, &[p.goal], algo)
@@ -124,21 +136,22 @@ pub fn run_peers(map: &MapData, problems: &[Problem]) -> Result<PeersReport, Map
             |&c| c == g,
         );
         let us = t0.elapsed().as_secs_f64() * 1e6;
-        times[2].push(us);
+        times[3].push(us);
         let cells: Option<Vec<Cell>> = found.map(|(v, _)| {
             v.iter()
                 .map(|&(x, y)| Cell::new(x as u16, y as u16))
                 .collect()
         });
-        tally(&mut figs[2], cells.as_deref(), p.optimal, us);
+        tally(&mut figs[3], cells.as_deref(), p.optimal, us);
     }
     for (f, t) in figs.iter_mut().zip(times.iter_mut()) {
         f.median_us = median(t);
     }
-    let ratio = figs[2].median_us / figs[0].median_us.max(1e-9);
+    let peer = figs[3].median_us;
     Ok(PeersReport {
         problems: problems.len(),
+        ratio: peer / figs[0].median_us.max(1e-9),
+        jps_ratio: peer / figs[2].median_us.max(1e-9),
         engines: figs,
-        ratio,
     })
 }
