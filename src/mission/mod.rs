@@ -294,6 +294,8 @@ pub struct Mission {
     reopens: u32,
     edge_reopens: u32,
     abandon_rounds: u8,
+    /// The goals given up were tried once more after the edge pass.
+    late_retry: bool,
     home_tries: u16,
     edge_tries: u16,
     started_us: u64,
@@ -385,6 +387,7 @@ impl Mission {
             reopens: 0,
             edge_reopens: 0,
             abandon_rounds: 0,
+            late_retry: false,
             home_tries: 0,
             edge_tries: 0,
             started_us: 0,
