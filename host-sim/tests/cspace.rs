@@ -224,3 +224,42 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(2000))]
+    /// The leg check's geometry (`foot_on_segment`, `toward`) against
+    /// floating point: within 1 mm of the exact foot and point, on the
+    /// segment, any coordinates a pose can hold.
+    #[test]
+    fn foot_and_point_along_a_segment_are_exact_to_a_millimetre(
+        a in (-30_000i32..30_000, -30_000i32..30_000),
+        b in (-30_000i32..30_000, -30_000i32..30_000),
+        p in (-40_000i32..40_000, -40_000i32..40_000),
+        d in 0i64..50_000,
+    ) {
+        use robovac::nav::geometry::{foot_on_segment, toward};
+        let f = |q: (i32, i32)| (q.0 as f64, q.1 as f64);
+        let ((ax, ay), (bx, by), (px, py)) = (f(a), f(b), f(p));
+        let (ux, uy) = (bx - ax, by - ay);
+        let len2 = ux * ux + uy * uy;
+        let t = if len2 == 0.0 { 0.0 } else { (((px - ax) * ux + (py - ay) * uy) / len2).clamp(0.0, 1.0) };
+        let got = foot_on_segment(a, b, p);
+        prop_assert!((got.0 as f64 - (ax + t * ux)).abs() <= 1.0 && (got.1 as f64 - (ay + t * uy)).abs() <= 1.0, "{got:?}");
+        let len = len2.sqrt();
+        let s = if len <= d as f64 { 1.0 } else { d as f64 / len };
+        let got = toward(a, b, d);
+        prop_assert!((got.0 as f64 - (ax + s * ux)).abs() <= 1.5 && (got.1 as f64 - (ay + s * uy)).abs() <= 1.5, "{got:?}");
+    }
+}
+
+/// The extremes: no overflow, and a zero-length segment is its own foot.
+#[test]
+fn foot_on_a_segment_at_the_extremes() {
+    use robovac::nav::geometry::{foot_on_segment, toward};
+    let (lo, hi) = (i32::MIN, i32::MAX);
+    assert_eq!(foot_on_segment((5, 5), (5, 5), (hi, lo)), (5, 5));
+    assert_eq!(foot_on_segment((lo, lo), (hi, hi), (lo, lo)), (lo, lo));
+    assert_eq!(foot_on_segment((lo, lo), (hi, hi), (hi, hi)), (hi, hi));
+    let _ = toward((0, 0), (100, 0), i64::MAX);
+    assert_eq!(toward((0, 0), (100, 0), 40), (40, 0));
+}

@@ -6,12 +6,12 @@
 //! its events, where the robot truly was.
 
 mod cli_common;
+mod truth;
 
 use cli_common::assert_refused;
 use host_sim::run::mission::{run_mission, MissionOptions};
 use host_sim::run::suite::suite_map;
-use host_sim::sim::robot::{Noise, RobotConfig};
-use host_sim::sim::world::World;
+use host_sim::sim::robot::Noise;
 use robovac::mission::{EventKind, LocalPlanner, MapMode};
 
 #[test]
@@ -22,15 +22,7 @@ fn the_potential_field_steers_the_home_flat_and_shows_its_local_minima() {
     let mut o = MissionOptions::new(map, MapMode::Known, 2, Noise::Realistic, 1);
     o.local = LocalPlanner::Apf;
     let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
-    assert_eq!(rep.collisions, 0, "the robot moved into something");
-    let world = World::new(o.map.clone(), o.cell_m);
-    let r = RobotConfig::default().diameter_m / 2.0;
-    for &(x, y) in &t.truth {
-        assert!(
-            !world.disc_hits_wall(x, y, r - 1e-6),
-            "over a wall at ({x:.3}, {y:.3})"
-        );
-    }
+    truth::check_truth(&o, &rep, &t);
     assert!(rep.finished && rep.returned_to_start, "{rep:?}");
     assert!(rep.coverage >= 0.97, "coverage {:.4}", rep.coverage);
     assert!(rep.avoidance_events > 0);

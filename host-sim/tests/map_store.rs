@@ -2,11 +2,12 @@
 //! store (`robovac::robot::map_image`), its checks, and two missions on
 //! the twin, the second on the map the first saved.
 
+mod truth;
+
 use host_sim::io::store::MemStore;
 use host_sim::run::mission::{run_mission, MapStore, MissionOptions};
 use host_sim::run::suite::suite_map;
-use host_sim::sim::robot::{Noise, RobotConfig};
-use host_sim::sim::world::World;
+use host_sim::sim::robot::Noise;
 use robovac::mission::MapMode;
 use robovac::robot::hal::Storage;
 use robovac::robot::lidar_map::{CellState, EvidenceMap};
@@ -145,14 +146,7 @@ fn the_second_run_starts_from_the_map_the_first_saved() {
         "{}",
         rep2.pose_error_max_mm
     );
-    let world = World::new(second.map.clone(), second.cell_m);
-    let r = RobotConfig::default().diameter_m / 2.0;
-    for &(x, y) in &t2.truth {
-        assert!(
-            !world.disc_hits_wall(x, y, r - 1e-6),
-            "in a wall at ({x:.3}, {y:.3})"
-        );
-    }
+    truth::body_never_over_a_wall(&second, &t2);
     let mut elsewhere = opts("home", Noise::None, 1);
     elsewhere.map_store.load = Some(store);
     let Err(err) = run_mission(&elsewhere, |_, _, _| {}) else {

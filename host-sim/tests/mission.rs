@@ -4,39 +4,18 @@
 //! length matches the distance reported, coverage is measured on the
 //! truth, the robot ends at the dock.
 
+mod truth;
+
 use host_sim::run::mission::{run_mission, Capacity, MissionOptions, MissionReport, MissionTrace};
 use host_sim::run::suite::suite_map;
 use host_sim::sim::robot::{Noise, RobotConfig};
-use host_sim::sim::world::World;
 use robovac::coverage::PlannerKind;
 use robovac::grid::Zone;
 use robovac::mission::MapMode;
+use truth::check_truth;
 
 fn opts(map: &str, mode: MapMode, people: usize, noise: Noise, seed: u64) -> MissionOptions {
     MissionOptions::new(suite_map(map).unwrap(), mode, people, noise, seed)
-}
-
-/// Independent checks on the truth.
-fn check_truth(o: &MissionOptions, rep: &MissionReport, t: &MissionTrace) {
-    let world = World::new(o.map.clone(), o.cell_m);
-    let r = RobotConfig::default().diameter_m / 2.0;
-    for &(x, y) in &t.truth {
-        assert!(
-            !world.disc_hits_wall(x, y, r - 1e-6),
-            "the body overlaps a wall at ({x:.3}, {y:.3})"
-        );
-    }
-    let len: f64 = t
-        .truth
-        .windows(2)
-        .map(|w| (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1))
-        .sum();
-    assert!(
-        (len - rep.distance_m).abs() < 0.01 * rep.distance_m + 0.05,
-        "trajectory {len:.2} m vs reported {:.2} m",
-        rep.distance_m
-    );
-    assert_eq!(rep.collisions, 0, "the robot moved into something");
 }
 
 /// The events tell the mission's story: it leaves the self-test for the
@@ -258,13 +237,17 @@ fn firmware_capacity_cleans_the_office() {
 }
 
 /// Unknown mode, the office, 3 people: a person in a doorway is mapped
-/// there when the lanes end, and the rooms behind it were left (46.5 %
-/// covered at the end). After the edge pass the given-up goals are tried
-/// again and the lanes go on behind the door (checked on the truth).
+/// there when the lanes end, and the rooms behind it were left (seed 1
+/// ended 46.5 % covered). After the edge pass the given-up goals are tried
+/// again and the lanes go on behind the door (checked on the truth). Seed
+/// 7: the lanes end at 338 s, the edge pass ends at 1,337 s with 59.5 %
+/// covered, and the lanes behind the door take it past 70 % by 1,800 s.
+/// (Seed 1 no longer meets the person there since legs the map comes to
+/// graze are planned again.)
 #[test]
 fn rooms_behind_a_doorway_once_blocked_are_cleaned_after_the_edge_pass() {
     use robovac::mission::{EventKind, State};
-    let mut o = opts("office", MapMode::Unknown, 3, Noise::None, 1);
+    let mut o = opts("office", MapMode::Unknown, 3, Noise::None, 7);
     o.max_time_s = 1800.0;
     let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
     check_truth(&o, &rep, &t);
@@ -273,7 +256,22 @@ fn rooms_behind_a_doorway_once_blocked_are_cleaned_after_the_edge_pass() {
         to: State::Cover,
     };
     assert!(t.events.iter().any(|e| e.kind == back), "{rep:?}");
-    assert!(rep.coverage >= 0.6, "coverage {:.4}", rep.coverage);
+    assert!(rep.coverage >= 0.65, "coverage {:.4}", rep.coverage);
+}
+
+/// Unknown mode checks the leg ahead against the map as it grows: the
+/// end of a thin wall (a door jamb) flickers between free and occupied
+/// as rays graze its corner, and a lane queued while it read free ran the
+/// body into it (the office with a person, realistic noise, seed 1: a
+/// contact at 317.5 s). The leg is planned again instead, and the body
+/// never touches a wall (on the truth).
+#[test]
+fn a_leg_the_growing_map_comes_to_block_is_planned_again() {
+    let mut o = opts("office", MapMode::Unknown, 1, Noise::Realistic, 1);
+    o.max_time_s = 400.0;
+    let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
+    check_truth(&o, &rep, &t);
+    assert!(rep.counters.stale_legs > 0, "{:?}", rep.counters);
 }
 
 /// The robot's button mid-mission (`Mission::request_home`): it leaves

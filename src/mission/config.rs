@@ -398,6 +398,9 @@ pub struct Counters {
     /// Legs re-planned from where the robot stood after the guard held it
     /// (a wall the plan did not know of, or odometry drift).
     pub replans: u32,
+    /// Legs planned again because the map, as it grew, came to block
+    /// them ([`super::Mission`]'s corridor watch).
+    pub stale_legs: u32,
     /// Missions cut short by the battery budget.
     pub battery_returns: u32,
     /// Charges: the robot went home with its battery low, charged and
@@ -446,6 +449,7 @@ impl Counters {
             detours: 0,
             retried: 0,
             replans: 0,
+            stale_legs: 0,
             battery_returns: 0,
             charges: 0,
             abandoned_retries: 0,

@@ -14,7 +14,7 @@
 //! opens.
 
 use super::{Fault, MapMode, Phase, HOME_TRIES};
-use crate::grid::{Cell, Layer};
+use crate::grid::Layer;
 use crate::nav::cspace;
 use crate::nav::edge::{EdgePass, EdgeStep};
 use crate::nav::geometry::{
@@ -138,11 +138,7 @@ sized_impl!([] {
         }
         m.late_retry = true;
         self.refresh_coarse();
-        let (gx, gy) = cspace::coarse_of(self.p.map, self.m.cfg.plan_cell_mm, from.0, from.1);
-        let g = &*self.p.coarse;
-        let at = Cell::from_xy(gx, gy)
-            .filter(|c| g.is_free(c.x as i32, c.y as i32))
-            .unwrap_or(self.p.planner.position());
+        let at = self.standing_cell(Some(from));
         if self.p.planner.retry_abandoned(at) == 0 {
             return false;
         }

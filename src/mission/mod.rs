@@ -47,7 +47,8 @@
 //! map before [`Mission::begin`]; it is not changed. Unknown: the map
 //! starts unknown and every lidar revolution is ray-cast into it; unknown
 //! space counts as free for planning (the planner re-plans as walls
-//! appear) and as blocked for the edge pass and the way home.
+//! appear, and a queued leg the map comes to graze is planned again:
+//! [`avoid`]) and as blocked for the edge pass and the way home.
 //!
 //! **Real-time control and background planning.** The executive has two
 //! entry points. [`Mission::control`] runs every control period (100 Hz,

@@ -98,6 +98,9 @@ pub trait MissionParts {
     fn planning_size(&self) -> (u32, u32);
     /// The room of planning cell (x, y) ([`crate::grid::rooms`]; 0: none).
     fn room_of(&self, x: i32, y: i32) -> u8;
+    /// For diagnosis: the evidence counter of the cell holding world
+    /// point (x, y) mm (0 off the map).
+    fn evidence_at(&self, x_mm: i32, y_mm: i32) -> i8;
 }
 
 /// For diagnosis: what the coverage planner is doing.
@@ -218,5 +221,10 @@ sized_impl!([MissionParts for Parts<'_, N, NW, OPEN, LCAP, PCAP, FW, EV, MW, CF>
 
     fn room_of(&self, x: i32, y: i32) -> u8 {
         crate::grid::rooms::label_at(self.coarse, self.rooms, x, y)
+    }
+
+    fn evidence_at(&self, x_mm: i32, y_mm: i32) -> i8 {
+        let (cx, cy) = self.map.cell_of(x_mm, y_mm);
+        self.map.evidence(cx, cy)
     }
 });

@@ -214,8 +214,21 @@ sized_impl!([] {
         }
         self.m.rooms.edge_due = false;
         self.scope_edges(false);
-        let (gx, gy) = cspace::coarse_of(self.p.map, self.m.cfg.plan_cell_mm, from.0, from.1);
-        self.next_room_from(Cell::from_xy(gx, gy))
+        self.next_room_from(Some(from))
+    }
+
+    /// The planning cell holding world point `from` when it is free now,
+    /// else (none given, or blocked: a mark, a person mapped there) the
+    /// planner's own position: where the planner starts again after an
+    /// edge pass.
+    pub(super) fn standing_cell(&self, from: Option<(i32, i32)>) -> Cell {
+        let g = &*self.p.coarse;
+        from.and_then(|(x, y)| {
+            let (gx, gy) = cspace::coarse_of(self.p.map, self.m.cfg.plan_cell_mm, x, y);
+            Cell::from_xy(gx, gy)
+        })
+        .filter(|c| g.is_free(c.x as i32, c.y as i32))
+        .unwrap_or(self.p.planner.position())
     }
 
     /// Blocks the planning cells in `cells` (inclusive, clipped to the
@@ -242,9 +255,10 @@ sized_impl!([] {
         self.next_room_from(None)
     }
 
-    /// [`Self::next_room`], the planner starting at `at` when that cell
-    /// is free once the room is open (else where it stood).
-    fn next_room_from(&mut self, at: Option<Cell>) -> bool {
+    /// [`Self::next_room`], the planner starting where the robot stands
+    /// at `from` when that cell is free once the room is open
+    /// ([`Self::standing_cell`]).
+    fn next_room_from(&mut self, from: Option<(i32, i32)>) -> bool {
         if !self.m.rooms.on() {
             return false;
         }
@@ -262,10 +276,7 @@ sized_impl!([] {
         }
         self.m.map_dirty = true;
         self.refresh_coarse();
-        let g = &*self.p.coarse;
-        let at = at
-            .filter(|c| g.is_free(c.x as i32, c.y as i32))
-            .unwrap_or(self.p.planner.position());
+        let at = self.standing_cell(from);
         if self.p.planner.start_keeping(self.p.coarse, at).is_err() {
             return false;
         }

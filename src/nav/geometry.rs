@@ -54,6 +54,33 @@ pub fn dist_mm(a: (i32, i32), b: (i32, i32)) -> i64 {
     crate::math::cost::isqrt_u64((dx * dx + dy * dy) as u64) as i64
 }
 
+/// The point of segment a-b nearest to `p` (mm): the robot's foot on the
+/// line it follows. In i128, so no pose can overflow it.
+pub fn foot_on_segment(a: (i32, i32), b: (i32, i32), p: (i32, i32)) -> (i32, i32) {
+    let (ux, uy) = ((b.0 as i128 - a.0 as i128), (b.1 as i128 - a.1 as i128));
+    let len2 = ux * ux + uy * uy;
+    let (px, py) = ((p.0 as i128 - a.0 as i128), (p.1 as i128 - a.1 as i128));
+    let dot = (px * ux + py * uy).clamp(0, len2);
+    let step = |u: i128| u.saturating_mul(dot).checked_div(len2).unwrap_or(0);
+    // Between a and b, so back in i32 range.
+    (
+        (a.0 as i128 + step(ux)) as i32,
+        (a.1 as i128 + step(uy)) as i32,
+    )
+}
+
+/// The point `d_mm` from `a` toward `b`, or `b` when that is nearer.
+pub fn toward(a: (i32, i32), b: (i32, i32), d_mm: i64) -> (i32, i32) {
+    let total = dist_mm(a, b);
+    if total <= d_mm || total == 0 {
+        return b;
+    }
+    (
+        a.0 + ((b.0 as i64 - a.0 as i64) * d_mm / total) as i32,
+        a.1 + ((b.1 as i64 - a.1 as i64) * d_mm / total) as i32,
+    )
+}
+
 /// True when `q` lies within `reach` of segment a→b, beyond a's end.
 pub fn in_corridor(a: (i32, i32), b: (i32, i32), q: (i32, i32), reach: i64) -> bool {
     let (ux, uy) = ((b.0 - a.0) as i64, (b.1 - a.1) as i64);

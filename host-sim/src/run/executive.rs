@@ -185,7 +185,7 @@ impl Executive for Native<'_> {
         debug_grid(self.parts, covered);
     }
     fn debug_collision(&self, sim: &Sim) {
-        debug_collision(sim, self.mission);
+        debug_collision(sim, self.mission, self.parts);
     }
     fn debug_tick(&self, sim: &Sim) {
         debug_tick(sim, self.mission, self.parts);

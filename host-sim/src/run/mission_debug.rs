@@ -30,8 +30,9 @@ pub fn debug_grid(parts: &dyn MissionParts, covered: bool) {
     }
 }
 
-/// `ROBOVAC_DEBUG_TRACE`: a collision on stderr.
-pub fn debug_collision(sim: &Sim, mission: &Mission) {
+/// `ROBOVAC_DEBUG_TRACE`: a collision on stderr, with the evidence map's
+/// counters 250 mm around (north up, 50 mm apart).
+pub fn debug_collision(sim: &Sim, mission: &Mission, parts: &dyn MissionParts) {
     if let Some(c) = sim.collisions.last() {
         eprintln!(
             "COLLISION t {:.2} by_person {} robot ({:.3},{:.3},{:.2}) state {:?} wheels {:?} people {:?}",
@@ -48,6 +49,13 @@ pub fn debug_collision(sim: &Sim, mission: &Mission) {
         // Walls only (`World::ray` would also hit people).
         let d = sim.world.wall_distance(x, y, 1.0);
         eprintln!("   nearest wall {d:.3} m from the centre");
+        let (px, py) = ((x * 1000.0) as i32, (y * 1000.0) as i32);
+        for dy in (-5..=5).rev() {
+            let row: Vec<String> = (-5..=5)
+                .map(|dx| format!("{:4}", parts.evidence_at(px + dx * 50, py + dy * 50)))
+                .collect();
+            eprintln!("   ev {}", row.join(""));
+        }
     }
 }
 

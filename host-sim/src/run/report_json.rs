@@ -19,6 +19,10 @@ struct CountersJson {
     dwa_no_admissible: u32,
     detours: u32,
     replans: u32,
+    /// Legs planned again because the growing map came to block them
+    /// (unknown mode; left out when 0).
+    #[serde(skip_serializing_if = "is_zero")]
+    stale_legs: u32,
     guard_ticks: u32,
     escape_ticks: u32,
     abandoned_retries: u32,
@@ -62,6 +66,7 @@ pub(super) fn counters_json<S: serde::Serializer>(
             dwa_no_admissible: c.dwa_no_admissible,
             detours: c.detours,
             replans: c.replans,
+            stale_legs: c.stale_legs,
             guard_ticks: c.guard_ticks,
             escape_ticks: c.escapes,
             abandoned_retries: c.abandoned_retries,
