@@ -205,6 +205,17 @@ mod run {
             "localize: one match ({} points, {} on walls) in {} instructions; {} mm, {} mrad from the truth",
             m.points.as_slice().len(), mt.inliers, insn, d, dt
         );
+        // Unknown mode's people filter, run on every revolution there
+        // before the match (`ScanPoints::drop_foreground`).
+        m.points.set(truth, pts);
+        let kept = m.points.as_slice().len();
+        let (dropped, insn) = meter.measure(|| m.points.drop_foreground());
+        defmt::println!(
+            "localize: people filter over {} points ({} dropped) in {} instructions",
+            kept,
+            dropped,
+            insn
+        );
         m.points.set(off(truth, 150, -150, 174_533), pts);
         let (r, insn) = meter.measure(|| Fusion::new().relocalise(m, map, true, false));
         let Ok(p) = r else {

@@ -239,3 +239,36 @@ mod partial_refresh {
         }
     }
 }
+
+/// The bumper's marks are forgotten on request (unknown mode, boxed in):
+/// each becomes a free cell that one lidar hit turns occupied again, the
+/// lidar's own walls are left as they were, and the changed box covers
+/// the map so the derived grids are rebuilt.
+#[test]
+fn contacts_are_forgotten_and_the_lidar_judges_them_again() {
+    use robovac::robot::lidar_map::{FREE_AT, PRIOR_WALL};
+    let mut m: Box<EvidenceMap<{ evidence_bytes(20 * 4) }>> = Box::new(EvidenceMap::new());
+    m.reset(20, 4, 100).unwrap();
+    m.set_state(3, 1, CellState::Occupied);
+    assert!(m.mark_contact(550, 250));
+    assert!(m.mark_contact(1050, 150));
+    let _ = m.take_changed();
+    let (a, b) = (m.cell_of(550, 250), m.cell_of(1050, 150));
+    assert_eq!(
+        (m.evidence(a.0, a.1), m.evidence(b.0, b.1)),
+        (PRIOR_WALL, PRIOR_WALL)
+    );
+    assert_eq!(m.forget_contacts(), 2);
+    assert_eq!(
+        (m.evidence(a.0, a.1), m.evidence(b.0, b.1)),
+        (FREE_AT, FREE_AT)
+    );
+    assert_eq!(m.state(3, 1), CellState::Occupied, "the lidar's wall stays");
+    assert_eq!(m.take_changed(), Some((0, 0, 19, 3)));
+    assert_eq!(m.forget_contacts(), 0);
+    assert_eq!(m.take_changed(), None);
+    // One return in a forgotten cell makes it occupied again.
+    let (x, y) = (b.0 * 100 + 50, 4 * 100 - b.1 * 100 - 50);
+    m.trace(50, y, x, y, true);
+    assert_eq!(m.state(b.0, b.1), CellState::Occupied);
+}

@@ -240,14 +240,13 @@ fn firmware_capacity_cleans_the_office() {
 /// there when the lanes end, and the rooms behind it were left (seed 1
 /// ended 46.5 % covered). After the edge pass the given-up goals are tried
 /// again and the lanes go on behind the door (checked on the truth). Seed
-/// 7: the lanes end at 338 s, the edge pass ends at 1,337 s with 59.5 %
-/// covered, and the lanes behind the door take it past 70 % by 1,800 s.
-/// (Seed 1 no longer meets the person there since legs the map comes to
-/// graze are planned again.)
+/// 3 (since people's returns no longer pull the pose, seeds 1 and 7 do
+/// not meet the person in the doorway): the late retry runs and the lanes
+/// behind the door take it past 70 % by 1,800 s.
 #[test]
 fn rooms_behind_a_doorway_once_blocked_are_cleaned_after_the_edge_pass() {
     use robovac::mission::{EventKind, State};
-    let mut o = opts("office", MapMode::Unknown, 3, Noise::None, 7);
+    let mut o = opts("office", MapMode::Unknown, 3, Noise::None, 3);
     o.max_time_s = 1800.0;
     let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
     check_truth(&o, &rep, &t);
@@ -256,6 +255,7 @@ fn rooms_behind_a_doorway_once_blocked_are_cleaned_after_the_edge_pass() {
         to: State::Cover,
     };
     assert!(t.events.iter().any(|e| e.kind == back), "{rep:?}");
+    assert!(rep.counters.abandoned_retries > 0, "{rep:?}");
     assert!(rep.coverage >= 0.65, "coverage {:.4}", rep.coverage);
 }
 
@@ -263,11 +263,12 @@ fn rooms_behind_a_doorway_once_blocked_are_cleaned_after_the_edge_pass() {
 /// end of a thin wall (a door jamb) flickers between free and occupied
 /// as rays graze its corner, and a lane queued while it read free ran the
 /// body into it (the office with a person, realistic noise, seed 1: a
-/// contact at 317.5 s). The leg is planned again instead, and the body
-/// never touches a wall (on the truth).
+/// contact at 317.5 s, before the check). The leg is planned again
+/// instead, and the body never touches a wall (on the truth). Seed 4: the
+/// check fires 5 times in 400 s (seed 1 no longer grazes the jamb).
 #[test]
 fn a_leg_the_growing_map_comes_to_block_is_planned_again() {
-    let mut o = opts("office", MapMode::Unknown, 1, Noise::Realistic, 1);
+    let mut o = opts("office", MapMode::Unknown, 1, Noise::Realistic, 4);
     o.max_time_s = 400.0;
     let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
     check_truth(&o, &rep, &t);

@@ -14,6 +14,10 @@
 //! opens.
 
 use super::{Fault, MapMode, Phase, HOME_TRIES};
+
+/// Edge-pass restarts, boxed in on the map (one each 0.5 s), after which
+/// unknown mode forgets the bumper's marks.
+const FORGET_MARKS_AFTER: u16 = 10;
 use crate::grid::Layer;
 use crate::nav::cspace;
 use crate::nav::edge::{EdgePass, EdgeStep};
@@ -129,7 +133,8 @@ sized_impl!([] {
     /// left (the office, 3 people: 46.5 % covered). Once per mission, after
     /// the edge pass has taken the robot round every contour (that
     /// doorway's included), the planner tries them again from where the
-    /// robot stands (`from`, world mm). Unknown mode only: a known map's
+    /// robot stands (`from`, world mm), with the bumper's marks forgotten.
+    /// Unknown mode only: a known map's
     /// unreachable cells are walled off in the prior, and stay so.
     fn retry_after_edges(&mut self, from: (i32, i32)) -> bool {
         let m = &mut *self.m;
@@ -137,6 +142,9 @@ sized_impl!([] {
             return false;
         }
         m.late_retry = true;
+        // The bumper's marks too: one may be a person who walked into the
+        // robot, closing a passage (`EvidenceMap::forget_contacts`).
+        self.p.map.forget_contacts();
         self.refresh_coarse();
         let at = self.standing_cell(Some(from));
         if self.p.planner.retry_abandoned(at) == 0 {
@@ -157,6 +165,12 @@ sized_impl!([] {
     fn restart_edge(&mut self) {
         let m = &mut *self.m;
         m.edge_tries += 1;
+        // Boxed in for 5 s in unknown mode: the bumper's marks may be a
+        // person who walked into the robot, closing it in a narrow place.
+        if m.edge_tries == FORGET_MARKS_AFTER && m.cfg.mode == MapMode::Unknown {
+            self.p.map.forget_contacts();
+        }
+        let m = &mut *self.m;
         m.route.clear();
         m.edge = EdgePass::new();
         let end = m.queue.last_end().unwrap_or((0, 0));

@@ -40,6 +40,13 @@ sized_impl!([] {
             m.phase = Phase::Align;
         } else if m.home_tries < HOME_TRIES {
             m.home_tries += 1;
+            // Halfway through the tries, in unknown mode, the bumper's
+            // marks are forgotten: they may be a person who walked into
+            // the robot, sealing a narrow passage (`forget_contacts`).
+            if m.home_tries == HOME_TRIES / 2 && m.cfg.mode == MapMode::Unknown {
+                self.p.map.forget_contacts();
+            }
+            let m = &mut *self.m;
             m.route.clear();
             m.queue.reset((pose.x_mm, pose.y_mm));
             m.fine_is_edge = false;

@@ -47,6 +47,11 @@ impl Mission {
             self.loc.stats.rebuilds += 1;
         }
         mt.points.load(&self.lidar.scan, &self.cfg.mount);
+        if !prior_only {
+            // People are mapped in unknown mode: their returns must not
+            // pull the pose toward where they stood (`drop_foreground`).
+            mt.points.drop_foreground();
+        }
         let (moved, turned) = self.lidar.scan.motion();
         let still = moved <= STILL.0 && turned <= STILL.1;
         let start_window = prior_only || self.cfg.prior_saved;

@@ -376,6 +376,29 @@ impl<const B: usize> EvidenceMap<B> {
         n
     }
 
+    /// Unknown mode: turns every contact the bumper marked
+    /// ([`Self::mark_contact`]) back into a free cell that the lidar judges
+    /// again (one hit makes it occupied). For a robot boxed in by its own
+    /// marks: a person who walked into it is marked like a table's
+    /// crossbar, and a mark in a narrow passage can cut the way home. What
+    /// the lidar cannot see is bumped, and marked, again. Not for known
+    /// mode, where the prior's walls are the same value. Returns the cells
+    /// freed.
+    pub fn forget_contacts(&mut self) -> u32 {
+        let mut n = 0;
+        let cells = self.width as usize * self.height as usize;
+        for i in 0..cells {
+            if self.get(i) == PRIOR_WALL {
+                self.put(i, FREE_AT);
+                n += 1;
+            }
+        }
+        if n > 0 {
+            self.changed = (0, 0, self.width as i32 - 1, self.height as i32 - 1);
+        }
+        n
+    }
+
     /// A hit within one cell of a prior wall is that wall seen with range
     /// noise (known mode): it adds nothing, so noisy returns do not thicken
     /// the prior's walls into the free cells before them.
