@@ -18,8 +18,10 @@ use robovac::mission::{EventKind, LocalPlanner, MapMode};
 fn the_potential_field_steers_the_home_flat_and_shows_its_local_minima() {
     // Two people and realistic noise: this run meets one local minimum
     // (measured; the count is the executive's, checked against its events).
+    // Seed 7: seed 1 no longer meets one since given-up lanes are handed
+    // back whatever stands on them.
     let map = suite_map("home").unwrap();
-    let mut o = MissionOptions::new(map, MapMode::Known, 2, Noise::Realistic, 1);
+    let mut o = MissionOptions::new(map, MapMode::Known, 2, Noise::Realistic, 7);
     o.local = LocalPlanner::Apf;
     let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
     truth::check_truth(&o, &rep, &t);

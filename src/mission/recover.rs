@@ -60,7 +60,12 @@ sized_impl!([] {
 
     /// A cleaning sub-path the robot could not drive: its cells go back to
     /// the planner (coverage) or the edge pass, to be tried again later in
-    /// the phase, up to [`MAX_RETRIES`] per mission.
+    /// the phase, up to [`MAX_RETRIES`] per mission. A cell goes back even
+    /// when the coarse grid reads it blocked now: what stopped the robot is
+    /// often a person mapped on it (unknown mode), and a cell kept
+    /// "covered" under them was never cleaned (the studio with 3 people,
+    /// realistic noise, seed 1 lost a 0.4 m strip along a whole wall:
+    /// 84.3 % covered, 95.8 % with the cells handed back).
     fn give_up(&mut self, seg: SubPath, cover: bool, last_end: Option<(i32, i32)>) {
         let m = &mut *self.m;
         if !cover || m.reopens >= MAX_RETRIES {
@@ -84,9 +89,7 @@ sized_impl!([] {
                     let y = seg.from.1 as i64 + (seg.to.1 - seg.from.1) as i64 * k / steps;
                     let (gx, gy) = cspace::coarse_of(self.p.map, cell, x as i32, y as i32);
                     let g = &mut *self.p.coarse;
-                    if g.is_free(gx, gy)
-                        && !g.get(Layer::Known, gx, gy)
-                        && g.get(Layer::Covered, gx, gy)
+                    if !g.get(Layer::Known, gx, gy) && g.get(Layer::Covered, gx, gy)
                     {
                         let _ = g.set(Layer::Covered, gx, gy, false);
                         if let Some(c) = Cell::from_xy(gx, gy) {
