@@ -4,7 +4,7 @@
 //! Hector SLAM and Cartographer do before matching.
 
 use crate::math::angle::sin_cos_q30;
-use crate::math::cost::isqrt_u64;
+use crate::math::cost::{dist_mm, isqrt_u64};
 use crate::robot::lidar::scan::Scan;
 use crate::robot::lidar_map::{beams, LidarMount};
 use crate::robot::odometry::Pose;
@@ -112,6 +112,10 @@ const GRAZING_SIN_COS_PERMILLE: (i64, i64) = (174, 985);
 /// Range noise allowed on top of the breakpoint distance, mm (3σ of the
 /// twin's realistic lidar and of the LD06's datasheet accuracy).
 const BREAK_NOISE_MM: i64 = 40;
+/// Widest angle (sin, ‰: 5°) between two returns still taken as
+/// neighbours. The returns kept for the match are about 2.4° apart (every
+/// third of the LD06's 450 a revolution), so a wider angle means returns
+/// were lost between them (no echo), and nothing is known of what is there.
 const NEIGHBOUR_SIN_PERMILLE: i64 = 87;
 
 impl ScanPoints {
@@ -140,8 +144,9 @@ impl ScanPoints {
     /// lie on the run's line). What is lost with the people: free-standing
     /// furniture narrower than [`FOREGROUND_WIDTH_MM`]. What is missed: a
     /// person standing before a wall that is itself seen edge-on looks
-    /// like that wall's end, and is kept. Points are dropped from the match only: the
-    /// map still gets every return, since the planner must avoid people.
+    /// like that wall's end, and is kept. Points are dropped from the match
+    /// only: the map still gets every return, since the planner must avoid
+    /// people.
     pub fn drop_foreground(&mut self) -> u32 {
         let n = self.len;
         let pts = self.pts.get(..n).unwrap_or(&[]);
@@ -160,7 +165,7 @@ impl ScanPoints {
             if len < n
                 && in_front(first, at(s + n - 1), at(s + 2 * n - 2))
                 && in_front(last, at(s + len), at(s + len + 1))
-                && dist(first, last) <= FOREGROUND_WIDTH_MM
+                && dist_mm(first, last) <= FOREGROUND_WIDTH_MM
             {
                 for j in (s..s + len).map(|i| i % n) {
                     if let Some(w) = dropped.get_mut(j / 32) {
@@ -200,11 +205,6 @@ fn range(p: (i32, i32)) -> i64 {
     isqrt_u64(x * x + y * y) as i64
 }
 
-/// Distance between two points, mm.
-fn dist(a: (i32, i32), b: (i32, i32)) -> i64 {
-    range((a.0.saturating_sub(b.0), a.1.saturating_sub(b.1)))
-}
-
 /// True when `a` and `b` are neighbours in angle (no returns lost between
 /// them, [`NEIGHBOUR_SIN_PERMILLE`]).
 fn adjacent(a: (i32, i32), b: (i32, i32)) -> bool {
@@ -226,7 +226,7 @@ fn splits(a: (i32, i32), b: (i32, i32)) -> bool {
     let (sin_l, cos_l) = GRAZING_SIN_COS_PERMILLE;
     // sin(λ − Δφ)·rₐr_b·1000; positive, since `adjacent` keeps Δφ ≤ 5°.
     let den = sin_l as i128 * (ax * bx + ay * by) - cos_l as i128 * cross;
-    let gap = dist(a, b) as i128 - BREAK_NOISE_MM as i128;
+    let gap = dist_mm(a, b) as i128 - BREAK_NOISE_MM as i128;
     den <= 0 || gap * den > 1000 * range(a) as i128 * cross
 }
 
@@ -248,7 +248,7 @@ fn same_line(a: (i32, i32), b: (i32, i32), c: (i32, i32)) -> bool {
     let (ux, uy) = (b.0 as i128 - a.0 as i128, b.1 as i128 - a.1 as i128);
     let (vx, vy) = (c.0 as i128 - b.0 as i128, c.1 as i128 - b.1 as i128);
     let cross = (ux * vy - uy * vx).abs();
-    ux * vx + uy * vy > 0 && cross * 1000 <= 342 * dist(a, b) as i128 * dist(b, c) as i128
+    ux * vx + uy * vy > 0 && cross * 1000 <= 342 * dist_mm(a, b) as i128 * dist_mm(b, c) as i128
 }
 
 /// An odometry pose in the matcher's units.

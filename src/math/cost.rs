@@ -42,6 +42,14 @@ pub const fn isqrt_u32(n: u32) -> u32 {
     }
 }
 
+/// Euclidean distance between two points (mm), rounded down; exact for
+/// any two `i32` points (the squares are summed in `u64`, saturating).
+pub fn dist_mm(a: (i32, i32), b: (i32, i32)) -> i64 {
+    let dx = (a.0 as i64 - b.0 as i64).unsigned_abs();
+    let dy = (a.1 as i64 - b.1 as i64).unsigned_abs();
+    isqrt_u64((dx * dx).saturating_add(dy * dy)) as i64
+}
+
 /// Floor of the square root of `n`, exact for every `u64`.
 ///
 /// Issue 13's search speed: the bit-by-bit method took 32 rounds of 64-bit

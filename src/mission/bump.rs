@@ -21,7 +21,7 @@
 //! in known mode it lives apart from the prior's walls like anything else
 //! the robot learns, so the matcher never aligns to it.
 
-use super::{EventKind, Phase};
+use super::{EventKind, MapMode, Phase};
 use crate::math::angle::sin_cos_q30;
 use crate::nav::cspace;
 use crate::nav::geometry::RobotFrame;
@@ -114,6 +114,20 @@ sized_impl!([] {
             marked,
         };
         self.m.events.push(at_us, event);
+    }
+
+    /// Forgets every bumper mark, in unknown mode only
+    /// ([`crate::robot::lidar_map::EvidenceMap::forget_contacts`]): a mark
+    /// may be a person who walked into the robot's side, and a mark never
+    /// fades, so one can seal a narrow passage or box the robot in. The
+    /// mission calls this when it is stuck: boxed in on the edge pass
+    /// ([`super::edge`]), halfway through the way home's tries
+    /// ([`super::home`]), and at the late retry of given-up lanes. A known
+    /// map's walls share the marks' cell value, so there it does nothing.
+    pub(super) fn forget_marks(&mut self) {
+        if self.m.cfg.mode == MapMode::Unknown {
+            self.p.map.forget_contacts();
+        }
     }
 
     /// Marks the evidence cells at `spots` (world mm) as walls the lidar

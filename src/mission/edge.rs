@@ -14,10 +14,6 @@
 //! opens.
 
 use super::{Fault, MapMode, Phase, HOME_TRIES};
-
-/// Edge-pass restarts, boxed in on the map (one each 0.5 s), after which
-/// unknown mode forgets the bumper's marks.
-const FORGET_MARKS_AFTER: u16 = 10;
 use crate::grid::Layer;
 use crate::nav::cspace;
 use crate::nav::edge::{EdgePass, EdgeStep};
@@ -26,6 +22,10 @@ use crate::nav::geometry::{
 };
 use crate::robot::odometry::Pose;
 use crate::search::SearchError;
+
+/// Edge-pass restarts, boxed in on the map (one each 0.5 s), after which
+/// unknown mode forgets the bumper's marks.
+const FORGET_MARKS_AFTER: u16 = 10;
 
 /// How far the edge pass's chords may stray from the contour, mm: a
 /// staircase of 5 cm cells along a slanted wall stays within 35 mm of its
@@ -142,9 +142,8 @@ sized_impl!([] {
             return false;
         }
         m.late_retry = true;
-        // The bumper's marks too: one may be a person who walked into the
-        // robot, closing a passage (`EvidenceMap::forget_contacts`).
-        self.p.map.forget_contacts();
+        // The bumper's marks too: one may close a passage.
+        self.forget_marks();
         self.refresh_coarse();
         let at = self.standing_cell(Some(from));
         if self.p.planner.retry_abandoned(at) == 0 {
@@ -165,10 +164,9 @@ sized_impl!([] {
     fn restart_edge(&mut self) {
         let m = &mut *self.m;
         m.edge_tries += 1;
-        // Boxed in for 5 s in unknown mode: the bumper's marks may be a
-        // person who walked into the robot, closing it in a narrow place.
-        if m.edge_tries == FORGET_MARKS_AFTER && m.cfg.mode == MapMode::Unknown {
-            self.p.map.forget_contacts();
+        // Boxed in for 5 s: the bumper's marks may close it in.
+        if m.edge_tries == FORGET_MARKS_AFTER {
+            self.forget_marks();
         }
         let m = &mut *self.m;
         m.route.clear();

@@ -40,11 +40,10 @@ sized_impl!([] {
             m.phase = Phase::Align;
         } else if m.home_tries < HOME_TRIES {
             m.home_tries += 1;
-            // Halfway through the tries, in unknown mode, the bumper's
-            // marks are forgotten: they may be a person who walked into
-            // the robot, sealing a narrow passage (`forget_contacts`).
-            if m.home_tries == HOME_TRIES / 2 && m.cfg.mode == MapMode::Unknown {
-                self.p.map.forget_contacts();
+            // Halfway through the tries, the bumper's marks may seal a
+            // narrow passage: forgotten.
+            if m.home_tries == HOME_TRIES / 2 {
+                self.forget_marks();
             }
             let m = &mut *self.m;
             m.route.clear();

@@ -48,11 +48,9 @@ impl RobotFrame {
     }
 }
 
-/// Straight-line distance, mm.
-pub fn dist_mm(a: (i32, i32), b: (i32, i32)) -> i64 {
-    let (dx, dy) = ((a.0 - b.0) as i64, (a.1 - b.1) as i64);
-    crate::math::cost::isqrt_u64((dx * dx + dy * dy) as u64) as i64
-}
+/// Straight-line distance, mm (kept here too, where the planners look for
+/// it; written once in [`crate::math::cost`]).
+pub use crate::math::cost::dist_mm;
 
 /// The point of segment a-b nearest to `p` (mm): the robot's foot on the
 /// line it follows. In i128, so no pose can overflow it.
