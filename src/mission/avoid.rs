@@ -69,7 +69,7 @@ sized_impl!([] {
                     m.subpath_since_us = now_us;
                     // Rejoin straight when the map allows it, else by a
                     // fresh path from here.
-                    let r = (m.cfg.radius_mm + m.cfg.margin_mm / 2) as i64;
+                    let r = m.cfg.sweep_mm();
                     if segment_clear(self.p.map, here, seg.to, r) {
                         m.queue.replace_front(SubPath {
                             from: here,
@@ -124,7 +124,7 @@ sized_impl!([] {
         }
         let foot = foot_on_segment(seg.from, seg.to, here);
         let end = toward(foot, seg.to, STALE_LOOK_MM);
-        let r = (cfg.radius_mm + cfg.margin_mm / 2) as i64;
+        let r = cfg.sweep_mm();
         let across = (cfg.radius_mm / 2) as i64;
         !segment_clear(self.p.map, foot, end, r) && segment_clear(self.p.map, foot, end, across)
     }

@@ -289,6 +289,15 @@ impl MissionConfig {
 }
 
 impl MissionConfig {
+    /// Half-width of the body's sweep (mm) that every straight move, chord
+    /// and shortcut is checked with against the map: the radius and half
+    /// the margin. The positions themselves keep the whole margin (the
+    /// configuration space), so a line between two of them may cut a
+    /// little inside it.
+    pub const fn sweep_mm(&self) -> i64 {
+        (self.radius_mm + self.margin_mm / 2) as i64
+    }
+
     /// The margins when the pose is corrected by scan matching: the
     /// planned clearance from mapped walls stays the ideal sensor's (the
     /// walls are where the map says and the pose within a few mm; 2 mm

@@ -185,7 +185,7 @@ sized_impl!([] {
     pub(super) fn enqueue(&mut self, to: (i32, i32), cover: bool) {
         let m = &mut *self.m;
         let from = m.queue.last_end().unwrap_or(to);
-        let r = (m.cfg.radius_mm + m.cfg.margin_mm / 2) as i64;
+        let r = m.cfg.sweep_mm();
         if segment_clear(self.p.map, from, to, r) {
             if !m.queue.push(to, cover) {
                 self.fail(Fault::Capacity);
@@ -252,7 +252,7 @@ sized_impl!([] {
                 Ok(Progress::Pending { .. }) => return false,
                 Ok(Progress::Found(_)) => match search.write_path(state, self.p.path) {
                     Ok(n) => {
-                        let r = (self.m.cfg.radius_mm + self.m.cfg.margin_mm / 2) as i64;
+                        let r = self.m.cfg.sweep_mm();
                         f.len =
                             prune_clear(self.p.map, self.p.path.get_mut(..n).unwrap_or(&mut []), r);
                         f.searching = false;

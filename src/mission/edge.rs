@@ -194,7 +194,7 @@ sized_impl!([] {
     /// Queues what the chord holds.
     fn flush_chord(&mut self) {
         let cover = self.m.chord.cover;
-        let r = (self.m.cfg.radius_mm + self.m.cfg.margin_mm / 2) as i64;
+        let r = self.m.cfg.sweep_mm();
         let map = &*self.p.map;
         while let Some(w) = self.m.chord.cut(|a, b| segment_clear(map, a, b, r)) {
             let _ = self.m.queue.push(w, cover);
@@ -218,7 +218,7 @@ sized_impl!([] {
         let (map, fine) = (&*self.p.map, &*self.p.fine);
         let clear = |a, b| fine_segment_clear(map, fine, a, b);
         // The body's sweep, as the lanes are checked ([`Self::enqueue`]).
-        let r = (self.m.cfg.radius_mm + self.m.cfg.margin_mm / 2) as i64;
+        let r = self.m.cfg.sweep_mm();
         let verify = |a, b| segment_clear(map, a, b, r);
         if let Some(w) = self.m.chord.offer(p, tol, clear, verify) {
             let _ = self.m.queue.push(w, edge);

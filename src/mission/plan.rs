@@ -151,7 +151,7 @@ sized_impl!([] {
         }
         m.guard_block_since = None;
         let here = (pose.x_mm, pose.y_mm);
-        let r = (m.cfg.radius_mm + m.cfg.margin_mm / 2) as i64;
+        let r = m.cfg.sweep_mm();
         match m.queue.front() {
             Some((_, _)) if segment_clear(self.p.map, here, seg_to(&m.queue), r) => {
                 m.activity = Activity::Avoid;
