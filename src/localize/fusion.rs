@@ -1,8 +1,9 @@
 //! What a match is allowed to change, and when the robot is lost.
 //!
 //! **Tracking** (every revolution, [`track`]): the best heading within
-//! ±6° of the odometry's (a slip burst turns the robot by a few degrees,
-//! beyond Gauss–Newton's basin at far points), then Gauss–Newton on the
+//! ±[`HEADING_STEPS`]° of the odometry's (a slip burst turns the robot by a
+//! few degrees, beyond Gauss–Newton's basin at far points), then
+//! Gauss–Newton on the
 //! 10 cm and the 5 cm levels. (The 20 cm level is not used for tracking:
 //! a wall two fine cells thick fills under half of its blocks, and its
 //! pull of up to 7 mrad was worse than the prediction.) The result
@@ -20,7 +21,10 @@
 //! Otherwise the odometry carries on alone. An accepted correction is
 //! applied at most [`STEP_MM`] and [`STEP_URAD`] per revolution (10 Hz), so
 //! the follower sees the pose glide, not jump; the rest is measured again
-//! at the next revolution.
+//! at the next revolution. The step is also what a bad match can do before
+//! the next one disagrees with it: a person pressed against the robot can
+//! pull a revolution's match by 40 mm, and a few such revolutions in a row
+//! moved the estimate 146 mm (a real home, unknown mode).
 //!
 //! **Lost** (a kidnap): [`LOST_AFTER`] revolutions in a row in which fewer
 //! than [`LOST_INLIER_PCT`] % of the points fit, both at the odometry's
@@ -48,8 +52,22 @@ pub const MIN_INFO_THETA: i64 = 12 * 5_120 * 5_120;
 pub const GATE_MM: i32 = 300;
 /// Largest heading correction believed in one revolution, µrad.
 pub const GATE_URAD: i64 = 260_000;
-/// Largest correction applied per revolution, mm.
-pub const STEP_MM: i32 = 40;
+/// Largest correction applied per revolution, mm. The odometry's own
+/// error in one revolution is far smaller (30 % slip at 0.3 m/s is 9 mm;
+/// on realistic floors known mode's corrections never reached 15 mm: its
+/// missions were the same at 40), so a larger step only lets a match
+/// pulled by a person move the pose faster. At 40 mm, two real homes in
+/// unknown mode were pulled 146 and 102 mm off in under a second; at
+/// 15 mm, at most 17 mm.
+pub const STEP_MM: i32 = 15;
+/// Heading candidates each side of the odometry's, 1° apart, before
+/// Gauss–Newton. Two slip bursts in one revolution on a harsh floor (2–5°
+/// each) can leave an 8° error that ±6° cannot see (the home flat in
+/// unknown mode, harsh, seed 1: lost, its map written in a turned frame).
+/// ±10° kept that mission (+24 % instructions per match, 1.37 M) but cost
+/// a wall contact in the bumper's harsh studio test, so it is not taken
+/// yet.
+pub const HEADING_STEPS: i64 = 6;
 /// Largest heading correction applied per revolution, µrad.
 pub const STEP_URAD: i64 = 35_000;
 /// Revolutions of poor fit in a row that mean the robot is lost (a
@@ -262,7 +280,7 @@ pub fn track<const EV: usize, const MW: usize>(
     let mut pose = guess;
     if m.pyramid.ready() {
         let f1 = Field::new(map, &m.pyramid, 1, prior_only);
-        pose = correlative::best_heading(&f1, pts, pose, 6, 17_453);
+        pose = correlative::best_heading(&f1, pts, pose, HEADING_STEPS, 17_453);
         pose = refine(&f1, pts, pose, 5).0;
     }
     let (pose, n) = refine(&fine, pts, pose, 6);

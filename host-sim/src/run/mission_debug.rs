@@ -62,14 +62,18 @@ pub fn debug_collision(sim: &Sim, mission: &Mission, parts: &dyn MissionParts) {
 /// `ROBOVAC_DEBUG_TRACE`: the executive's view every simulated second.
 pub fn debug_tick(sim: &Sim, mission: &Mission, parts: &dyn MissionParts) {
     let (x, y, th) = sim.pose;
+    let est = mission.pose();
     eprintln!(
-        "t {:.0} {:?} {:?} truth ({:.2},{:.2},{:.2}) dwa {:?} front {:?} {:?}",
+        "t {:.0} {:?} {:?} truth ({:.2},{:.2},{:.2}) est ({},{},{}) dwa {:?} front {:?} {:?}",
         sim.t_us as f64 * 1e-6,
         mission.state(),
         mission.corridor_status(),
         x,
         y,
         th,
+        est.x_mm,
+        est.y_mm,
+        est.theta_mrad,
         mission.dwa_command(),
         mission.current_subpath(),
         mission.counters()
