@@ -114,7 +114,7 @@ fn tracking_corrects_a_small_error() {
 
 /// A correction is applied at most `STEP_MM` per revolution (a match
 /// pulled by a person moves the pose that much at most before the next
-/// one disagrees), yet a real 40 mm error is worked off within a few
+/// one disagrees), yet an error beyond it is worked off within a few
 /// revolutions: each applied step is toward the truth, and the rest is
 /// measured again.
 #[test]
@@ -124,7 +124,7 @@ fn a_large_correction_glides_in_steps() {
     for _ in 0..10 {
         let t = true_pose(&b.world, &mut rng);
         let pts = twin_scan(&b.world, t, 450, 0.01, 0.02, 0.0, &mut rng);
-        let mut g = guess(t, 40, -30, 0);
+        let mut g = guess(t, fusion::STEP_MM + 20, -fusion::STEP_MM - 20, 0);
         let mut f = Fusion::new();
         for rev in 0..4 {
             b.m.points.set(g, &pts);

@@ -22,9 +22,7 @@
 //! applied at most [`STEP_MM`] and [`STEP_URAD`] per revolution (10 Hz), so
 //! the follower sees the pose glide, not jump; the rest is measured again
 //! at the next revolution. The step is also what a bad match can do before
-//! the next one disagrees with it: a person pressed against the robot can
-//! pull a revolution's match by 40 mm, and a few such revolutions in a row
-//! moved the estimate 146 mm (a real home, unknown mode).
+//! the next one disagrees with it ([`STEP_MM`]).
 //!
 //! **Lost** (a kidnap): [`LOST_AFTER`] revolutions in a row in which fewer
 //! than [`LOST_INLIER_PCT`] % of the points fit, both at the odometry's
@@ -52,14 +50,14 @@ pub const MIN_INFO_THETA: i64 = 12 * 5_120 * 5_120;
 pub const GATE_MM: i32 = 300;
 /// Largest heading correction believed in one revolution, µrad.
 pub const GATE_URAD: i64 = 260_000;
-/// Largest correction applied per revolution, mm. The odometry's own
-/// error in one revolution is far smaller (30 % slip at 0.3 m/s is 9 mm;
-/// on realistic floors known mode's corrections never reached 15 mm: its
-/// missions were the same at 40), so a larger step only lets a match
-/// pulled by a person move the pose faster. At 40 mm, two real homes in
-/// unknown mode were pulled 146 and 102 mm off in under a second; at
-/// 15 mm, at most 17 mm.
-pub const STEP_MM: i32 = 15;
+/// Largest correction applied per revolution, mm. It is also how far a
+/// match pulled by a person moves the pose per revolution (two real homes
+/// in unknown mode, 1 person, realistic: 146 and 102 mm for under a
+/// second). 15 mm was tried: those fell to 17 and 15 mm and known mode on
+/// realistic floors did not change, but on harsh floors a known-mode
+/// studio mission (3 people, seed 3) lost itself 59 times and failed;
+/// not taken.
+pub const STEP_MM: i32 = 40;
 /// Heading candidates each side of the odometry's, 1° apart, before
 /// Gauss–Newton. Two slip bursts in one revolution on a harsh floor (2–5°
 /// each) can leave an 8° error that ±6° cannot see (the home flat in
