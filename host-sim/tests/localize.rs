@@ -45,6 +45,13 @@ fn drawn_world(w: u32, h: u32, wall: impl Fn(u32, u32) -> bool) -> World {
     World::new(map, 0.1)
 }
 
+/// A free true pose drawn from the seed and the twin's scan there (450
+/// returns, realistic range noise and dropouts), robot frame.
+fn random_scan(w: &World, rng: &mut SplitMix64) -> ((f64, f64, f64), Vec<(i32, i32)>) {
+    let t = true_pose(w, rng);
+    (t, twin_scan(w, t, 450, 0.01, 0.02, 0.0, rng))
+}
+
 /// A free true pose drawn from the seed (clear of walls by 0.3 m).
 fn true_pose(w: &World, rng: &mut SplitMix64) -> (f64, f64, f64) {
     let (wm, hm) = w.size_m();
@@ -80,8 +87,7 @@ fn fusion_wrap(t: i64) -> i64 {
 fn relocalise_case(name: &str, seed: u64, err: (i32, i32, i64)) -> (f64, i64) {
     let mut b = bench(name);
     let mut rng = SplitMix64::new(seed);
-    let t = true_pose(&b.world, &mut rng);
-    let pts = twin_scan(&b.world, t, 450, 0.01, 0.02, 0.0, &mut rng);
+    let (t, pts) = random_scan(&b.world, &mut rng);
     b.m.points.set(guess(t, err.0, err.1, err.2), &pts);
     let mut f = Fusion::new();
     let p = f
@@ -103,8 +109,7 @@ fn tracking_corrects_a_small_error() {
     let mut b = bench("home");
     let mut rng = SplitMix64::new(7);
     for _ in 0..20 {
-        let t = true_pose(&b.world, &mut rng);
-        let pts = twin_scan(&b.world, t, 450, 0.01, 0.02, 0.0, &mut rng);
+        let (t, pts) = random_scan(&b.world, &mut rng);
         b.m.points.set(guess(t, 30, -25, 20_000), &pts);
         let (mt, _) = fusion::track(&b.m, &b.map, true).unwrap();
         let (d, dt) = error(mt.pose, t);
@@ -122,8 +127,7 @@ fn a_large_correction_glides_in_steps() {
     let mut b = bench("home");
     let mut rng = SplitMix64::new(11);
     for _ in 0..10 {
-        let t = true_pose(&b.world, &mut rng);
-        let pts = twin_scan(&b.world, t, 450, 0.01, 0.02, 0.0, &mut rng);
+        let (t, pts) = random_scan(&b.world, &mut rng);
         let mut g = guess(t, fusion::STEP_MM + 20, -fusion::STEP_MM - 20, 0);
         let mut f = Fusion::new();
         for rev in 0..4 {
@@ -166,8 +170,7 @@ fn global_relocalisation_finds_the_robot() {
     {
         let mut b = bench(map);
         let mut rng = SplitMix64::new(100 + i as u64);
-        let t = true_pose(&b.world, &mut rng);
-        let pts = twin_scan(&b.world, t, 450, 0.01, 0.02, 0.0, &mut rng);
+        let (t, pts) = random_scan(&b.world, &mut rng);
         b.m.points.set(PoseU::default(), &pts);
         let mut f = Fusion::new();
         match f.relocalise(&b.m, &b.map, true, true) {
@@ -191,8 +194,7 @@ fn unmapped_points_do_not_pull() {
     let mut rng = SplitMix64::new(3);
     let mut worst = 0.0f64;
     for _ in 0..10 {
-        let t = true_pose(&b.world, &mut rng);
-        let mut pts = twin_scan(&b.world, t, 450, 0.01, 0.02, 0.0, &mut rng);
+        let (t, mut pts) = random_scan(&b.world, &mut rng);
         // Replace every third return by a point 0.6–1.0 m away (a person).
         for (i, p) in pts.iter_mut().enumerate().filter(|(i, _)| i % 3 == 0) {
             let a = f64::from(p.1).atan2(f64::from(p.0));

@@ -3,11 +3,10 @@
 //! **Tracking** (every revolution, [`track`]): the best heading within
 //! ±[`HEADING_STEPS`]° of the odometry's (a slip burst turns the robot by a
 //! few degrees, beyond Gauss–Newton's basin at far points), then
-//! Gauss–Newton on the
-//! 10 cm and the 5 cm levels. (The 20 cm level is not used for tracking:
-//! a wall two fine cells thick fills under half of its blocks, and its
-//! pull of up to 7 mrad was worse than the prediction.) The result
-//! is accepted only when it is well conditioned:
+//! Gauss–Newton on the 10 cm and the 5 cm levels. (The 20 cm level is not
+//! used for tracking: a wall two fine cells thick fills under half of its
+//! blocks, and its pull of up to 7 mrad was worse than the prediction.)
+//! The result is accepted only when it is well conditioned:
 //! - at least [`MIN_INLIER_PCT`] % of the points land on walls;
 //! - per axis, by the translational information matrix's eigenvalues
 //!   (Hector's H is the inverse covariance up to the noise scale): both

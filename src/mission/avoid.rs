@@ -6,13 +6,12 @@
 use super::config::MAP_POINTS;
 use super::events::EventKind;
 use super::{Activity, LocalPlanner, MapMode, Mission, RING};
+use crate::math::cost::dist_mm;
 use crate::nav::apf::{self, ApfResult};
 use crate::nav::cspace;
 use crate::nav::dwa::{self, DwaResult, MAX_OBSTACLES};
 use crate::nav::follow::SubPath;
-use crate::nav::geometry::{
-    dist_mm, foot_on_segment, in_corridor, segment_clear, toward, RobotFrame,
-};
+use crate::nav::geometry::{foot_on_segment, in_corridor, segment_clear, toward, RobotFrame};
 use crate::nav::guard::free_distance_mm;
 use crate::robot::lidar_map::CellState;
 use crate::robot::odometry::Pose;

@@ -22,9 +22,9 @@
 //! the mission instead, as before.
 
 use super::{Activity, Fault, Phase};
+use crate::math::cost::dist_mm;
 use crate::mission::config::BatteryParams;
 use crate::nav::cspace;
-use crate::nav::geometry::dist_mm;
 use crate::robot::odometry::Pose;
 
 /// The battery as the executive knows it.

@@ -6,8 +6,9 @@
 use super::{take_box, union_box, CellBox, Fault, Feed, Mission, Phase, QUEUE};
 use crate::coverage::{CoverageError, Step};
 use crate::grid::Cell;
+use crate::math::cost::dist_mm;
 use crate::nav::cspace;
-use crate::nav::geometry::{dist_mm, nearest_free_fine, prune_clear, segment_clear};
+use crate::nav::geometry::{nearest_free_fine, prune_clear, segment_clear};
 use crate::robot::odometry::Pose;
 use crate::search::{Algo, Progress, SearchError};
 use crate::verify::metrics::SegmentKind;

@@ -15,11 +15,10 @@
 
 use super::{Fault, MapMode, Phase, HOME_TRIES};
 use crate::grid::Layer;
+use crate::math::cost::dist_mm;
 use crate::nav::cspace;
 use crate::nav::edge::{EdgePass, EdgeStep};
-use crate::nav::geometry::{
-    along, dist_mm, fine_segment_clear, nearest_free_fine_within, segment_clear,
-};
+use crate::nav::geometry::{along, fine_segment_clear, nearest_free_fine_within, segment_clear};
 use crate::robot::odometry::Pose;
 use crate::search::SearchError;
 

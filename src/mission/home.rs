@@ -13,8 +13,9 @@
 //! detours stay A*.
 
 use super::{Fault, Feed, MapMode, Phase, HOME_TRIES};
+use crate::math::cost::dist_mm;
 use crate::nav::cspace;
-use crate::nav::geometry::{dist_mm, nearest_free_fine_within};
+use crate::nav::geometry::nearest_free_fine_within;
 use crate::robot::odometry::Pose;
 use crate::search::{Algo, SearchError};
 

@@ -2,8 +2,9 @@
 //! guard's hold, and the one dispatch on the phase; the self-test.
 
 use super::{seg_to, Activity, Fault, MapMode, Phase};
+use crate::math::cost::dist_mm;
 use crate::nav::cspace;
-use crate::nav::geometry::{dist_mm, segment_clear};
+use crate::nav::geometry::segment_clear;
 
 /// A move held by the guard that ends within this of the robot and is not
 /// clear on the map is skipped, not planned again, mm.

@@ -5,9 +5,9 @@
 use super::handoff::Note;
 use super::{Activity, Fault, Phase, MAX_RETRIES, QUEUE};
 use crate::grid::{Cell, Layer};
+use crate::math::cost::dist_mm;
 use crate::nav::cspace;
 use crate::nav::follow::SubPath;
-use crate::nav::geometry::dist_mm;
 use crate::robot::odometry::Pose;
 
 sized_impl!([] {

@@ -163,7 +163,7 @@ pub fn plan(p: &ApfParams, goal: PointMm, obstacles: &[PointMm]) -> ApfResult {
     }
 }
 
-/// |(x, y)|, rounded down. Not `geometry::dist_mm`: the force's sums
+/// |(x, y)|, rounded down. Not `math::cost::dist_mm`: the force's sums
 /// exceed `i32`, and squares of full-range `i32` points overflow `i64`.
 fn norm(x: i64, y: i64) -> i64 {
     let s = (x as i128 * x as i128 + y as i128 * y as i128).min(u64::MAX as i128);

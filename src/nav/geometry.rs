@@ -5,6 +5,7 @@
 use super::cspace;
 use super::dwa::PointMm;
 use crate::grid::{Cell, Grid};
+use crate::math::cost::dist_mm;
 use crate::robot::lidar_map::{CellState, EvidenceMap};
 use crate::robot::odometry::Pose;
 
@@ -47,10 +48,6 @@ impl RobotFrame {
         )
     }
 }
-
-/// Straight-line distance, mm (kept here too, where the planners look for
-/// it; written once in [`crate::math::cost`]).
-pub use crate::math::cost::dist_mm;
 
 /// The point of segment a-b nearest to `p` (mm): the robot's foot on the
 /// line it follows. In i128, so no pose can overflow it.
