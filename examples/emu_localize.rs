@@ -6,7 +6,8 @@
 //! the results checked on the target against the recorded true pose and
 //! each step's cost reported in instructions:
 //! - building the coarse levels of the prior;
-//! - one tracking match (a guess 39 mm and 1.1° off);
+//! - one tracking match (a guess 39 mm and 1.1° off), and one wide
+//!   match, the search after a poor fit (12° off);
 //! - the start's window relocalisation (150 mm, 150 mm and 10° off);
 //! - a whole-map relocalisation (a kidnap: no guess at all).
 //!
@@ -163,6 +164,36 @@ mod run {
         blocked
     }
 
+    /// One tracking match (1.1° off), and one wide match, the search a
+    /// poor fit makes next (12° off: a slip burst on a turned pose).
+    fn report_tracking(
+        meter: &Meter,
+        map: &EvidenceMap<{ evidence_bytes(W * H) }>,
+        m: &mut ScanMatcher<MW>,
+        truth: PoseU,
+        pts: &[(i32, i32)],
+    ) {
+        m.points.set(off(truth, 30, -25, 20_000), pts);
+        let (r, insn) = meter.measure(|| fusion::track(m, map, true));
+        let Ok((mt, _)) = r else {
+            fail("tracking match")
+        };
+        let (d, dt) = check(mt.pose, truth, "tracking match");
+        defmt::println!(
+            "localize: one match ({} points, {} on walls) in {} instructions; {} mm, {} mrad from the truth",
+            m.points.as_slice().len(), mt.inliers, insn, d, dt
+        );
+        m.points.set(off(truth, 30, -25, -209_440), pts);
+        let steps = fusion::WIDE_HEADING_STEPS;
+        let (r, insn) = meter.measure(|| fusion::track_within(m, map, true, steps));
+        let Ok((mt, _)) = r else { fail("wide match") };
+        let (d, dt) = check(mt.pose, truth, "wide match");
+        defmt::println!(
+            "localize: one wide match (+-{} deg, a guess 12 deg off) in {} instructions; {} mm, {} mrad from the truth",
+            steps, insn, d, dt
+        );
+    }
+
     fn report(
         meter: &Meter,
         map: &mut EvidenceMap<{ evidence_bytes(W * H) }>,
@@ -195,16 +226,7 @@ mod run {
         let mut pts = [(0i32, 0i32); 512];
         let (truth, n) = load_scan(&mut pts);
         let pts = pts.get(..n).unwrap_or(&[]);
-        m.points.set(off(truth, 30, -25, 20_000), pts);
-        let (r, insn) = meter.measure(|| fusion::track(m, map, true));
-        let Ok((mt, _)) = r else {
-            fail("tracking match")
-        };
-        let (d, dt) = check(mt.pose, truth, "tracking match");
-        defmt::println!(
-            "localize: one match ({} points, {} on walls) in {} instructions; {} mm, {} mrad from the truth",
-            m.points.as_slice().len(), mt.inliers, insn, d, dt
-        );
+        report_tracking(meter, map, m, truth, pts);
         // Unknown mode's people filter, run on every revolution there
         // before the match (`ScanPoints::drop_foreground`).
         m.points.set(truth, pts);

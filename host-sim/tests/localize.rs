@@ -117,6 +117,15 @@ fn tracking_corrects_a_small_error() {
     }
 }
 
+/// `g` moved by a correction the fusion returned.
+fn corrected(g: PoseU, (dx, dy, dt): (i32, i32, i64)) -> PoseU {
+    PoseU {
+        x_mm: g.x_mm + dx,
+        y_mm: g.y_mm + dy,
+        theta_urad: g.theta_urad + dt,
+    }
+}
+
 /// A correction is applied at most `STEP_MM` per revolution (a match
 /// pulled by a person moves the pose that much at most before the next
 /// one disagrees), yet an error beyond it is worked off within a few
@@ -134,13 +143,42 @@ fn a_large_correction_glides_in_steps() {
             b.m.points.set(g, &pts);
             let (dx, dy, dt) = f.track(&b.m, &b.map, true).unwrap();
             assert!(dx.abs() <= fusion::STEP_MM && dy.abs() <= fusion::STEP_MM);
-            (g.x_mm, g.y_mm, g.theta_urad) = (g.x_mm + dx, g.y_mm + dy, g.theta_urad + dt);
+            g = corrected(g, (dx, dy, dt));
             if rev == 0 {
                 assert_eq!((dx, dy), (-fusion::STEP_MM, fusion::STEP_MM), "{t:?}");
             }
         }
         let (d, _) = error(g, t);
         assert!(d <= 10.0, "{t:?}: {d:.1} mm after 4 revolutions");
+    }
+}
+
+/// A pose turned 12° (a slip burst on a harsh floor) is beyond the
+/// narrow heading search; the poor fit makes the next revolution search
+/// wide, and the pose glides back to the truth. Meanwhile the pose is in
+/// doubt and the revolutions are not to be mapped; once settled, they are.
+#[test]
+fn a_turned_pose_is_found_by_the_wide_search_and_not_mapped_meanwhile() {
+    let mut b = bench("home");
+    let mut rng = SplitMix64::new(13);
+    for _ in 0..10 {
+        let (t, pts) = random_scan(&b.world, &mut rng);
+        let mut g = guess(t, 30, -25, -209_440);
+        let mut f = Fusion::new();
+        let mut doubtful = 0;
+        for _ in 0..12 {
+            b.m.points.set(g, &pts);
+            if let Ok(c) = f.track(&b.m, &b.map, true) {
+                g = corrected(g, c);
+            }
+            doubtful += usize::from(!f.mappable());
+        }
+        let (d, dt) = error(g, t);
+        assert!(d <= 10.0 && dt <= 8_727, "{t:?}: {d:.1} mm {dt} µrad");
+        assert!(f.mappable(), "{t:?}: settled but still in doubt");
+        // 12° in steps of at most 5° (SURE_STEP_URAD): at least 2
+        // revolutions in doubt.
+        assert!(doubtful >= 2, "{t:?}: only {doubtful} revolutions in doubt");
     }
 }
 

@@ -421,3 +421,47 @@ fn a_cable_stalls_a_wheel_until_it_backs_off() {
         sim.pose
     );
 }
+
+/// A revolution's turn is measured across the ±π seam: a robot facing
+/// west whose heading jitters from +179° to −179° turned 2°, not 358°
+/// (the executive relocalises only on a revolution taken at a
+/// standstill).
+#[test]
+fn a_revolutions_turn_is_measured_across_the_seam() {
+    use robovac::robot::lidar::scan::{Scan, ScanAssembler};
+    use robovac::robot::lidar::LidarFrame;
+    use robovac::robot::odometry::Pose;
+    let frame = |start_cdeg: u16| LidarFrame {
+        start_cdeg,
+        end_cdeg: start_cdeg + 3000,
+        ..EMPTY
+    };
+    const EMPTY: LidarFrame = LidarFrame {
+        speed_dps: 3600,
+        start_cdeg: 0,
+        end_cdeg: 0,
+        timestamp_ms: 0,
+        count: 0,
+        points: [robovac::robot::lidar::LidarPoint {
+            angle_cdeg: 0,
+            dist_mm: 0,
+            intensity: 0,
+        }; robovac::robot::lidar::MAX_POINTS_PER_FRAME],
+    };
+    let mut asm = ScanAssembler::<16>::new();
+    let mut out = Scan::<16>::new();
+    let headings = [3_124, 3_141, -3_141, -3_124, 3_130];
+    for (i, th) in headings.iter().enumerate() {
+        let pose = Pose {
+            x_mm: 1_000,
+            y_mm: 1_000,
+            theta_mrad: *th,
+        };
+        assert!(!asm.push(&frame(i as u16 * 6_000), pose, &mut out));
+    }
+    let pose = Pose::default();
+    assert!(asm.push(&frame(0), pose, &mut out));
+    let (moved, turned_mrad) = out.motion();
+    assert_eq!(moved, 0);
+    assert!((34..=36).contains(&turned_mrad), "{turned_mrad} mrad");
+}

@@ -18,10 +18,27 @@
 //!   (it counts as a failed match).
 //!
 //! Otherwise the odometry carries on alone. An accepted correction is
-//! applied at most [`STEP_MM`] and [`STEP_URAD`] per revolution (10 Hz), so
+//! applied at most [`STEP_MM`] and [`STEP_URAD`] per revolution (10 Hz;
+//! [`SURE_STEP_URAD`] when the match is sure of a heading), so
 //! the follower sees the pose glide, not jump; the rest is measured again
 //! at the next revolution. The step is also what a bad match can do before
 //! the next one disagrees with it ([`STEP_MM`]).
+//!
+//! **Doubt** (harsh floors): a revolution that fits poorly both at the
+//! prediction and after refinement (under [`WIDE_AFTER_FIT_PCT`] %) makes
+//! the next revolution search ±[`WIDE_HEADING_STEPS`]° instead: a slip
+//! burst on top of a turned pose can leave more than ±6° to find (the home
+//! flat, unknown mode, harsh, seed 1: 9° at 1103 s, then lost for good).
+//! The wide search is never in the same revolution as the narrow one, so
+//! one match stays within its budget. And while a revolution's correction
+//! exceeds [`SETTLED_MM`] or [`SETTLED_URAD`], or the scan cannot check
+//! the heading ([`MIN_INFO_THETA`]: an alcove, where every wall is near),
+//! or it fits poorly at the prediction and no correction is believed,
+//! the pose is in doubt: the executive does not map it
+//! ([`Fusion::mappable`]), so unknown mode does not write a turned scan
+//! into its map. After [`MAX_UNMAPPED`] doubtful revolutions in a row the
+//! scan is mapped anyway (new territory, or a world that changed, must
+//! not stay out of the map for good).
 //!
 //! **Lost** (a kidnap): [`LOST_AFTER`] revolutions in a row in which fewer
 //! than [`LOST_INLIER_PCT`] % of the points fit, both at the odometry's
@@ -65,8 +82,33 @@ pub const STEP_MM: i32 = 40;
 /// a wall contact in the bumper's harsh studio test, so it is not taken
 /// yet.
 pub const HEADING_STEPS: i64 = 6;
+/// Heading candidates each side, 1° apart, in the revolution after a
+/// poor fit (the module doc's doubt).
+pub const WIDE_HEADING_STEPS: i64 = 15;
+/// A revolution fitting fewer of its points than this, %, both at the
+/// prediction and after refinement, widens the next heading search (the
+/// twin fits 90–99 % at the true pose, 80 % and more with people about).
+pub const WIDE_AFTER_FIT_PCT: u32 = 80;
+/// A correction beyond this, mm, leaves the pose in doubt: not mapped.
+pub const SETTLED_MM: i32 = 30;
+/// A heading correction beyond this, µrad (1°), leaves the pose in doubt.
+pub const SETTLED_URAD: i64 = 17_453;
+/// Doubtful revolutions in a row left out of the map before one is mapped
+/// anyway (3 s).
+pub const MAX_UNMAPPED: u8 = 30;
 /// Largest heading correction applied per revolution, µrad.
 pub const STEP_URAD: i64 = 35_000;
+/// Largest heading correction applied per revolution when the match is
+/// sure of it, µrad (5°): the refined pose fits at least
+/// [`WIDE_AFTER_FIT_PCT`] % of the points and [`SURE_GAIN_PCT`] points more
+/// than the prediction. A slip patch under one wheel turns the robot by
+/// 2–3° per revolution (harsh floors), faster than [`STEP_URAD`] can
+/// follow (the studio, unknown mode, harsh, 1 person, seed 3: 18° off in
+/// one second, then lost). 5° for every match was tried: a match pulled by
+/// people turned a known-mode studio mission (3 people, seed 3) round.
+pub const SURE_STEP_URAD: i64 = 87_266;
+/// Points, %, by which a sure match fits better than its prediction.
+pub const SURE_GAIN_PCT: u32 = 15;
 /// Revolutions of poor fit in a row that mean the robot is lost (a
 /// revolution fits 90–99 % of its points at the true pose in the twin,
 /// 80 % and more with people about).
@@ -115,6 +157,8 @@ pub struct Fusion {
     /// Counters.
     pub stats: LocStats,
     poor_in_row: u8,
+    doubt_in_row: u8,
+    wide: bool,
     tracking: bool,
     /// True from a lost detection until a relocalisation succeeds.
     pub lost: bool,
@@ -136,6 +180,8 @@ impl Fusion {
                 last_fit_pct: (0, 0),
             },
             poor_in_row: 0,
+            doubt_in_row: 0,
+            wide: false,
             tracking: false,
             lost: false,
         }
@@ -150,22 +196,20 @@ impl Fusion {
         prior_only: bool,
     ) -> Result<Correction, MatchError> {
         self.stats.matches += 1;
-        let r = track(m, map, prior_only);
-        let pts = m.points.as_slice().len() as u32;
-        let fit_pct = |inl: u32| inl * 100 / pts.max(1);
-        if let Ok((mt, g)) = &r {
-            self.stats.last_fit_pct = (fit_pct(*g), fit_pct(mt.inliers));
-        }
-        let poor = match &r {
-            Ok((mt, at_guess)) => {
-                fit_pct(mt.inliers) < LOST_INLIER_PCT && fit_pct(*at_guess) < LOST_INLIER_PCT
-            }
-            // Nothing lands near a wall: after a kidnap the map around the
-            // prediction explains none of the scan.
-            Err(MatchError::PoorFit | MatchError::Unconstrained) => true,
-            Err(_) => false,
+        let steps = if self.wide {
+            WIDE_HEADING_STEPS
+        } else {
+            HEADING_STEPS
         };
-        self.poor_in_row = if poor {
+        let r = track_within(m, map, prior_only, steps);
+        let fit = Fit::of(&r, m.points.as_slice().len() as u32);
+        if let Some(pct) = fit.pct {
+            self.stats.last_fit_pct = pct;
+        }
+        self.wide = fit.poor(WIDE_AFTER_FIT_PCT);
+        // Nothing lands near a wall: after a kidnap the map around the
+        // prediction explains none of the scan.
+        self.poor_in_row = if fit.poor(LOST_INLIER_PCT) {
             self.poor_in_row.saturating_add(1)
         } else {
             0
@@ -174,14 +218,51 @@ impl Fusion {
             self.lost = true;
             self.stats.lost += 1;
         }
+        let heading_seen = r
+            .as_ref()
+            .is_ok_and(|(mt, _)| mt.info_theta >= MIN_INFO_THETA);
         let out = r.and_then(|(mt, _)| self.accept(&mt, m.points.reference()));
         if out.is_err() {
             self.stats.rejected += 1;
         }
-        out
+        let settled = match out {
+            Ok((dx, dy, dt)) => {
+                heading_seen
+                    && dx.abs() <= SETTLED_MM
+                    && dy.abs() <= SETTLED_MM
+                    && dt.abs() <= SETTLED_URAD
+            }
+            Err(MatchError::PoorFit | MatchError::Unconstrained) => fit.guess_fits(),
+            Err(_) => true,
+        };
+        self.doubt_in_row = if settled {
+            0
+        } else {
+            self.doubt_in_row.saturating_add(1)
+        };
+        let step_urad = if fit.sure() {
+            SURE_STEP_URAD
+        } else {
+            STEP_URAD
+        };
+        out.map(|(dx, dy, dt)| {
+            (
+                dx.clamp(-STEP_MM, STEP_MM),
+                dy.clamp(-STEP_MM, STEP_MM),
+                dt.clamp(-step_urad, step_urad),
+            )
+        })
     }
 
-    /// The policy of the module doc on one refined match.
+    /// Whether the revolution just tracked may be written into the map:
+    /// not while the pose is in doubt (the module doc), unless it has been
+    /// for more than [`MAX_UNMAPPED`] revolutions.
+    pub fn mappable(&self) -> bool {
+        self.doubt_in_row == 0 || self.doubt_in_row > MAX_UNMAPPED
+    }
+
+    /// The policy of the module doc on one refined match: the whole
+    /// correction believed (the caller clamps it to a step).
     fn accept(&mut self, mt: &Match, from: PoseU) -> Result<Correction, MatchError> {
         if mt.inliers * 100 < MIN_INLIER_PCT * mt.points {
             return Err(MatchError::PoorFit);
@@ -210,11 +291,7 @@ impl Fusion {
         } else {
             self.stats.accepted += 1;
         }
-        Ok((
-            dx.clamp(-STEP_MM, STEP_MM),
-            dy.clamp(-STEP_MM, STEP_MM),
-            dt.clamp(-STEP_URAD, STEP_URAD),
-        ))
+        Ok((dx, dy, dt))
     }
 
     /// Relocalises the loaded scan: within a window around its reference
@@ -255,8 +332,56 @@ impl Fusion {
         self.stats.relocalised += 1;
         self.lost = false;
         self.poor_in_row = 0;
+        self.doubt_in_row = 0;
+        self.wide = false;
         self.tracking = true;
         Ok(best.pose)
+    }
+}
+
+/// How one revolution fitted: the share of its points on walls at the
+/// prediction and after refinement (%), or why there was no match.
+struct Fit {
+    pct: Option<(u32, u32)>,
+    err: Option<MatchError>,
+}
+
+impl Fit {
+    fn of(r: &Result<(Match, u32), MatchError>, points: u32) -> Self {
+        let pct = |inl: u32| inl * 100 / points.max(1);
+        match r {
+            Ok((mt, at_guess)) => Self {
+                pct: Some((pct(*at_guess), pct(mt.inliers))),
+                err: None,
+            },
+            Err(e) => Self {
+                pct: None,
+                err: Some(*e),
+            },
+        }
+    }
+
+    /// Under `pct` % both at the prediction and after refinement, or no
+    /// match for want of walls near the points.
+    fn poor(&self, pct: u32) -> bool {
+        match self.pct {
+            Some((g, r)) => g < pct && r < pct,
+            None => matches!(
+                self.err,
+                Some(MatchError::PoorFit | MatchError::Unconstrained)
+            ),
+        }
+    }
+
+    /// The prediction itself fits (or there was nothing to judge it by).
+    fn guess_fits(&self) -> bool {
+        self.pct.is_none_or(|(g, _)| g >= WIDE_AFTER_FIT_PCT)
+    }
+
+    /// The refinement fits well, and much better than the prediction.
+    fn sure(&self) -> bool {
+        self.pct
+            .is_some_and(|(g, r)| r >= WIDE_AFTER_FIT_PCT && r >= g + SURE_GAIN_PCT)
     }
 }
 
@@ -266,6 +391,17 @@ pub fn track<const EV: usize, const MW: usize>(
     m: &ScanMatcher<MW>,
     map: &EvidenceMap<EV>,
     prior_only: bool,
+) -> Result<(Match, u32), MatchError> {
+    track_within(m, map, prior_only, HEADING_STEPS)
+}
+
+/// [`track`] with `steps` heading candidates (1° apart) each side of the
+/// prediction.
+pub fn track_within<const EV: usize, const MW: usize>(
+    m: &ScanMatcher<MW>,
+    map: &EvidenceMap<EV>,
+    prior_only: bool,
+    steps: i64,
 ) -> Result<(Match, u32), MatchError> {
     let pts = m.points.as_slice();
     if (pts.len() as u32) < MIN_POINTS {
@@ -277,7 +413,7 @@ pub fn track<const EV: usize, const MW: usize>(
     let mut pose = guess;
     if m.pyramid.ready() {
         let f1 = Field::new(map, &m.pyramid, 1, prior_only);
-        pose = correlative::best_heading(&f1, pts, pose, HEADING_STEPS, 17_453);
+        pose = correlative::best_heading(&f1, pts, pose, steps, 17_453);
         pose = refine(&f1, pts, pose, 5).0;
     }
     let (pose, n) = refine(&fine, pts, pose, 6);

@@ -8,7 +8,10 @@
 //!   started).
 //! - **Tracking:** every revolution corrects the odometry as
 //!   [`crate::localize::fusion`] allows, and the scan is then mapped at
-//!   the corrected poses (unknown mode maps in the corrected frame).
+//!   the corrected poses (unknown mode maps in the corrected frame), unless
+//!   the pose is in doubt ([`crate::localize::fusion`]: a large correction
+//!   still gliding in, or a prediction that fits poorly) in unknown mode,
+//!   where a scan mapped in a wrong frame stays in the map.
 //! - **Lost:** control brakes ([`super::State::Relocalising`]); every
 //!   revolution taken at a standstill is matched over the whole map until
 //!   one is accepted; then the leg ahead is planned again from where the
@@ -75,17 +78,21 @@ impl Mission {
             }
             return false;
         }
-        match self.loc.track(mt, map, prior_only) {
+        let r = self.loc.track(mt, map, prior_only);
+        // Known mode maps only what the prior lacks (people, a moved
+        // chair) beside a prior that stays fixed: nothing drifts into it.
+        let sure = prior_only || self.loc.mappable();
+        match r {
             Ok(c) => {
                 self.apply(c);
-                true
+                sure
             }
             Err(_) if self.loc.lost => {
                 self.lost_since_us = now_us;
                 self.events.push(now_us, EventKind::Lost);
                 false
             }
-            Err(_) => true,
+            Err(_) => sure,
         }
     }
 

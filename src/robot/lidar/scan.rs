@@ -3,6 +3,7 @@
 //! even while the robot moves during the turn (per-frame de-skewing).
 
 use super::LidarFrame;
+use crate::math::angle::wrap_mrad;
 use crate::robot::odometry::Pose;
 
 /// One revolution: up to `F` frames, each with the pose it arrived at.
@@ -78,7 +79,10 @@ impl<const F: usize> Scan<F> {
         };
         self.frames().iter().fold((0, 0), |(d, t), (p, _)| {
             let dd = (p.x_mm - p0.x_mm).abs() + (p.y_mm - p0.y_mm).abs();
-            (d.max(dd), t.max((p.theta_mrad - p0.theta_mrad).abs()))
+            (
+                d.max(dd),
+                t.max(wrap_mrad(p.theta_mrad - p0.theta_mrad).abs()),
+            )
         })
     }
 
