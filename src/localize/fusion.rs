@@ -218,24 +218,11 @@ impl Fusion {
             self.lost = true;
             self.stats.lost += 1;
         }
-        let heading_seen = r
-            .as_ref()
-            .is_ok_and(|(mt, _)| mt.info_theta >= MIN_INFO_THETA);
         let out = r.and_then(|(mt, _)| self.accept(&mt, m.points.reference()));
         if out.is_err() {
             self.stats.rejected += 1;
         }
-        let settled = match out {
-            Ok((dx, dy, dt)) => {
-                heading_seen
-                    && dx.abs() <= SETTLED_MM
-                    && dy.abs() <= SETTLED_MM
-                    && dt.abs() <= SETTLED_URAD
-            }
-            Err(MatchError::PoorFit | MatchError::Unconstrained) => fit.guess_fits(),
-            Err(_) => true,
-        };
-        self.doubt_in_row = if settled {
+        self.doubt_in_row = if fit.settled(&out) {
             0
         } else {
             self.doubt_in_row.saturating_add(1)
@@ -340,48 +327,59 @@ impl Fusion {
 }
 
 /// How one revolution fitted: the share of its points on walls at the
-/// prediction and after refinement (%), or why there was no match.
+/// prediction and after refinement (%), whether the scan checked the
+/// heading, or whether there was no match for want of walls near the
+/// points.
 struct Fit {
     pct: Option<(u32, u32)>,
-    err: Option<MatchError>,
+    heading_seen: bool,
+    no_walls: bool,
 }
 
 impl Fit {
     fn of(r: &Result<(Match, u32), MatchError>, points: u32) -> Self {
         let pct = |inl: u32| inl * 100 / points.max(1);
-        match r {
-            Ok((mt, at_guess)) => Self {
-                pct: Some((pct(*at_guess), pct(mt.inliers))),
-                err: None,
-            },
-            Err(e) => Self {
-                pct: None,
-                err: Some(*e),
-            },
+        Self {
+            pct: r
+                .as_ref()
+                .ok()
+                .map(|(mt, at_guess)| (pct(*at_guess), pct(mt.inliers))),
+            heading_seen: r
+                .as_ref()
+                .is_ok_and(|(mt, _)| mt.info_theta >= MIN_INFO_THETA),
+            no_walls: matches!(r, Err(MatchError::PoorFit | MatchError::Unconstrained)),
         }
     }
 
     /// Under `pct` % both at the prediction and after refinement, or no
     /// match for want of walls near the points.
     fn poor(&self, pct: u32) -> bool {
-        match self.pct {
-            Some((g, r)) => g < pct && r < pct,
-            None => matches!(
-                self.err,
-                Some(MatchError::PoorFit | MatchError::Unconstrained)
-            ),
-        }
-    }
-
-    /// The prediction itself fits (or there was nothing to judge it by).
-    fn guess_fits(&self) -> bool {
-        self.pct.is_none_or(|(g, _)| g >= WIDE_AFTER_FIT_PCT)
+        self.pct.map_or(self.no_walls, |(g, r)| g < pct && r < pct)
     }
 
     /// The refinement fits well, and much better than the prediction.
     fn sure(&self) -> bool {
         self.pct
             .is_some_and(|(g, r)| r >= WIDE_AFTER_FIT_PCT && r >= g + SURE_GAIN_PCT)
+    }
+
+    /// Not in doubt (the module doc), given what the fusion made of the
+    /// match (`out`: the whole correction believed, or why none).
+    fn settled(&self, out: &Result<Correction, MatchError>) -> bool {
+        match out {
+            Ok((dx, dy, dt)) => {
+                self.heading_seen
+                    && dx.abs() <= SETTLED_MM
+                    && dy.abs() <= SETTLED_MM
+                    && dt.abs() <= SETTLED_URAD
+            }
+            // No correction believed: in doubt when the prediction itself
+            // fits poorly.
+            Err(MatchError::PoorFit | MatchError::Unconstrained) => {
+                self.pct.is_none_or(|(g, _)| g >= WIDE_AFTER_FIT_PCT)
+            }
+            Err(_) => true,
+        }
     }
 }
 

@@ -8,10 +8,11 @@
 //!   started).
 //! - **Tracking:** every revolution corrects the odometry as
 //!   [`crate::localize::fusion`] allows, and the scan is then mapped at
-//!   the corrected poses (unknown mode maps in the corrected frame), unless
-//!   the pose is in doubt ([`crate::localize::fusion`]: a large correction
-//!   still gliding in, or a prediction that fits poorly) in unknown mode,
-//!   where a scan mapped in a wrong frame stays in the map.
+//!   the corrected poses (unknown mode maps in the corrected frame). In
+//!   unknown mode, where a scan mapped in a wrong frame stays in the map,
+//!   a revolution whose pose is in doubt is not mapped
+//!   ([`crate::localize::Fusion::mappable`]: a large correction still
+//!   gliding in, or a prediction that fits poorly).
 //! - **Lost:** control brakes ([`super::State::Relocalising`]); every
 //!   revolution taken at a standstill is matched over the whole map until
 //!   one is accepted; then the leg ahead is planned again from where the
@@ -81,18 +82,18 @@ impl Mission {
         let r = self.loc.track(mt, map, prior_only);
         // Known mode maps only what the prior lacks (people, a moved
         // chair) beside a prior that stays fixed: nothing drifts into it.
-        let sure = prior_only || self.loc.mappable();
+        let mappable = prior_only || self.loc.mappable();
         match r {
             Ok(c) => {
                 self.apply(c);
-                sure
+                mappable
             }
             Err(_) if self.loc.lost => {
                 self.lost_since_us = now_us;
                 self.events.push(now_us, EventKind::Lost);
                 false
             }
-            Err(_) => sure,
+            Err(_) => mappable,
         }
     }
 
