@@ -61,7 +61,53 @@ pub fn sees_contact(
     })
 }
 
+/// Lidar points off the map's walls (a person, most likely) within this
+/// of the body's rim, mm: near enough to walk into it before the next
+/// look.
+pub const PERSON_NEAR_MM: i64 = 150;
+
+/// A bump this soon after unmapped points were that near is taken for the
+/// person's, µs: the twin's people, and real ones, wait beside a robot in
+/// their way for up to 4 s and then push past it, and a person standing
+/// over the lidar hides from it.
+pub const PERSON_RECENT_US: u64 = 3_000_000;
+
+impl super::Mission {
+    /// True when unmapped points were near the body within
+    /// [`PERSON_RECENT_US`] before `at_us`.
+    fn person_was_near(&self, at_us: u64) -> bool {
+        self.person_near_us != 0 && at_us.saturating_sub(self.person_near_us) < PERSON_RECENT_US
+    }
+}
+
 sized_impl!([] {
+    /// The planning step's note of lidar points near the body that are
+    /// not a wall's: the time, for [`PERSON_RECENT_US`]. In known mode, no
+    /// prior wall within one cell (stricter than the ring's two-cell
+    /// `mapped` flag, which calls a person standing by a wall mapped; the
+    /// person's own cells are occupied in the live counters); in unknown
+    /// mode, the ring's flag (where everything is the live counters).
+    pub(super) fn note_people_near(&mut self, now_us: u64, pose: &Pose) {
+        let m = &mut *self.m;
+        let reach = m.cfg.radius_mm as i64 + PERSON_NEAR_MM;
+        let map = &*self.p.map;
+        let known = m.cfg.mode == MapMode::Known;
+        let off_wall = |&(x, y, mapped): &(i32, i32, bool)| {
+            if !known {
+                return !mapped;
+            }
+            let (cx, cy) = map.cell_of(x, y);
+            !(-1..=1).any(|dy| (-1..=1).any(|dx| map.is_wall(cx + dx, cy + dy, true)))
+        };
+        let near = m.lidar.ring.as_slice().iter().any(|p| {
+            let (dx, dy) = ((p.0 - pose.x_mm) as i64, (p.1 - pose.y_mm) as i64);
+            dx * dx + dy * dy < reach * reach && off_wall(p)
+        });
+        if near {
+            m.person_near_us = now_us.max(1);
+        }
+    }
+
     /// A bump that control handed off: mark the spot when the lidar does
     /// not see it, and plan the leg again after the back-off.
     pub(super) fn bumped(&mut self, at_us: u64, pose: Pose, bearing_mrad: i32) {
@@ -77,7 +123,8 @@ sized_impl!([] {
             )
         };
         let contact = at(bearing_mrad);
-        let seen = sees_contact(m.points(), &pose, m.cfg.radius_mm as i64, bearing_mrad);
+        let seen = sees_contact(m.points(), &pose, m.cfg.radius_mm as i64, bearing_mrad)
+            || m.person_was_near(at_us);
         let spots = [-1, 0, 1].map(|k| at(bearing_mrad + k * SPREAD_MRAD));
         let marked = if seen { 0 } else { self.mark(&spots) };
         self.m.counters.bump_marks += marked as u32;

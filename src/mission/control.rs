@@ -17,6 +17,7 @@ use crate::nav::cspace;
 use crate::nav::follow::{follow, FollowCmd};
 use crate::nav::geometry::RobotFrame;
 use crate::nav::guard::{limit_speed, FreeDistance, GuardParams};
+use crate::nav::keep_off;
 use crate::robot::odometry::Pose;
 use crate::robot::wheel_control::WheelFault;
 
@@ -193,7 +194,11 @@ impl Mission {
                 (0, 0)
             }
             Activity::Avoid => self.dwa_cmd,
-            Activity::Follow => self.follow_front(now_us, pose),
+            Activity::Follow => {
+                let cmd = self.follow_front(now_us, pose);
+                let k = &self.cfg.keep_off;
+                keep_off::steer(k, &self.near_walls, pose, self.cfg.radius_mm, cmd)
+            }
         }
     }
 

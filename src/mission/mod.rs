@@ -144,6 +144,7 @@ use crate::localize::Fusion;
 use crate::nav::edge::EdgePass;
 use crate::nav::follow::SubPaths;
 use crate::nav::geometry::in_corridor;
+use crate::nav::keep_off::NearWalls;
 pub use crate::robot::hal::Bumper;
 use crate::robot::lidar::ld06::Ld06;
 use crate::robot::lidar::scan::{Scan, ScanAssembler};
@@ -257,6 +258,11 @@ pub struct Mission {
     /// mm (so that one minimum is counted once, however often the robot,
     /// turning in it, steps in and out of it).
     apf_minimum: Option<(i32, i32)>,
+    /// The walls the control loop keeps off, gathered by the planning step.
+    near_walls: NearWalls,
+    /// When unmapped points were last near the body (µs, 0: never): a
+    /// bump soon after is a person's ([`bump::PERSON_RECENT_US`]).
+    person_near_us: u64,
     handoff: Handoff,
     events: Events,
     phase: Phase,
@@ -357,6 +363,8 @@ impl Mission {
             cmd: (0, 0),
             dwa_cmd: (0, 0),
             apf_minimum: None,
+            near_walls: NearWalls::new(),
+            person_near_us: 0,
             handoff: Handoff::new(),
             events: Events::new(),
             phase: Phase::Idle,

@@ -5,6 +5,7 @@ use super::{seg_to, Activity, Fault, MapMode, Phase};
 use crate::math::cost::dist_mm;
 use crate::nav::cspace;
 use crate::nav::geometry::segment_clear;
+use crate::nav::keep_off::NearWalls;
 
 /// A move held by the guard that ends within this of the robot and is not
 /// clear on the map is skipped, not planned again, mm.
@@ -56,6 +57,13 @@ sized_impl!([] {
         m.counters.plan_steps += 1;
         self.drain();
         let pose = self.m.drive.odom.pose();
+        // A tenth of a second at cruise speed (30 mm) beyond what steers.
+        let c = &self.m.cfg;
+        if c.keep_off.keep_mm > 0 {
+            let reach = c.radius_mm + c.keep_off.keep_mm + 100;
+            self.m.near_walls = NearWalls::gather(self.p.map, (pose.x_mm, pose.y_mm), reach);
+        }
+        self.note_people_near(now_us, &pose);
         self.step(now_us, &pose);
     }
 

@@ -10,3 +10,4 @@ pub mod edge;
 pub mod follow;
 pub mod geometry;
 pub mod guard;
+pub mod keep_off;
