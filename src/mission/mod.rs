@@ -120,6 +120,7 @@ mod home;
 mod inspect;
 mod lidar;
 mod locate;
+mod phase;
 mod plan;
 mod progress;
 mod recover;
@@ -154,53 +155,7 @@ use crate::robot::odometry::{Odometry, Pose};
 use crate::robot::wheel_control::WheelControl;
 use events::Events;
 use handoff::Handoff;
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Phase {
-    Idle,
-    SelfTestScan {
-        since_us: u64,
-    },
-    SelfTestWheels {
-        until_us: u64,
-        enc0: (u16, u16),
-    },
-    SelfTestSettle {
-        until_us: u64,
-    },
-    Cover,
-    Edge,
-    ReturnSearch,
-    Return,
-    /// At the dock: turning in place to the heading it started with.
-    Align,
-    /// On the dock, charging since `since_us` from `from_pm` ‰, to go
-    /// on cleaning ([`battery`]).
-    Charging {
-        since_us: u64,
-        from_pm: u16,
-    },
-    Done,
-    Failed(Fault),
-}
-
-impl Phase {
-    /// The robot drives a path: covering, along the edges, or home. What
-    /// a bump, a guard's hold and a relocalisation interrupt.
-    fn driving(self) -> bool {
-        matches!(
-            self,
-            Phase::Cover | Phase::Edge | Phase::ReturnSearch | Phase::Return
-        )
-    }
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Activity {
-    Follow,
-    Avoid,
-    BackOff { until_us: u64 },
-}
+use phase::{Activity, Phase};
 
 /// A fine-grid path being fed into the queue.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
