@@ -42,7 +42,9 @@ fn marks_that_box_the_robot_in_are_forgotten() {
 /// see (6 by 200 s), and a known map never forgets its marks: the robot,
 /// boxed in, gave the lanes up and failed with `NoWayHome` at 560 s,
 /// 8.4 % covered. A bump within 3 s of a point off the map's walls near
-/// the body is now the person's, and nothing is marked.
+/// the body is now the person's, and nothing is marked. By 600 s it has
+/// cleaned 30 % (31.6 % with the Bresenham beams, 29.6 % with the exact
+/// walk): the bound is set well above the 8.4 % of the failure.
 #[test]
 fn a_person_pushing_past_the_robot_is_not_marked_as_a_wall() {
     let mut map = suite_map("S6").unwrap();
@@ -54,5 +56,5 @@ fn a_person_pushing_past_the_robot_is_not_marked_as_a_wall() {
     assert!(rep.counters.bumps > 0, "{:?}", rep.counters);
     assert_eq!(rep.counters.bump_marks, 0, "{:?}", rep.counters);
     assert!(!rep.final_state.starts_with("Failed"), "{rep:?}");
-    assert!(rep.coverage > 0.3, "coverage {:.4}", rep.coverage);
+    assert!(rep.coverage > 0.25, "coverage {:.4}", rep.coverage);
 }

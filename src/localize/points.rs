@@ -5,8 +5,8 @@
 
 use crate::math::angle::sin_cos_q30;
 use crate::math::cost::{dist_mm, isqrt_u64};
+use crate::robot::beam::{beams, Beam, LidarMount};
 use crate::robot::lidar::scan::Scan;
-use crate::robot::lidar_map::{beams, LidarMount};
 use crate::robot::odometry::Pose;
 
 use super::PoseU;
@@ -78,19 +78,27 @@ impl ScanPoints {
         let k = total.div_ceil(MATCH_POINTS).max(1);
         let mut i = 0usize;
         for (pose, frame) in scan.frames() {
-            beams(pose, mount, frame, 0, |_, _, hx, hy, hit| {
-                i += 1;
-                if !hit || !i.is_multiple_of(k) {
-                    return;
-                }
-                let (dx, dy) = ((hx - r.x_mm) as i64, (hy - r.y_mm) as i64);
-                let px = ((dx * c + dy * s) >> 30) as i32;
-                let py = ((dy * c - dx * s) >> 30) as i32;
-                if let Some(slot) = self.pts.get_mut(self.len) {
-                    *slot = (px, py);
-                    self.len += 1;
-                }
-            });
+            beams(
+                pose,
+                mount,
+                frame,
+                0,
+                |&Beam {
+                     end: (hx, hy), hit, ..
+                 }| {
+                    i += 1;
+                    if !hit || !i.is_multiple_of(k) {
+                        return;
+                    }
+                    let (dx, dy) = ((hx - r.x_mm) as i64, (hy - r.y_mm) as i64);
+                    let px = ((dx * c + dy * s) >> 30) as i32;
+                    let py = ((dy * c - dx * s) >> 30) as i32;
+                    if let Some(slot) = self.pts.get_mut(self.len) {
+                        *slot = (px, py);
+                        self.len += 1;
+                    }
+                },
+            );
         }
     }
 }

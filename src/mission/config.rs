@@ -27,6 +27,10 @@ pub const HOME_TRIES: u16 = 300;
 /// Sub-paths given up and put back for a later pass, at most, per mission
 /// (a spot a person keeps blocking is not retried for ever).
 pub const MAX_RETRIES: u32 = 400;
+/// Cleaning goals the fine search found no way to, kept to hand back to
+/// the planner when it finishes (`Exec::hand_back_skipped`). When full,
+/// later ones are not kept (counted in `Counters::skipped` all the same).
+pub const SKIPPED_GOALS: usize = 16;
 
 /// Where the map comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -158,7 +158,9 @@ sized_impl!([] {
                     // Goals given up while the map was different (a person
                     // in a doorway) get up to two more chances.
                     let at = self.p.planner.position();
-                    if self.m.abandon_rounds < 2 && self.p.planner.retry_abandoned(at) > 0 {
+                    if self.m.abandon_rounds < 2
+                        && (self.p.planner.retry_abandoned(at) + self.hand_back_skipped(at)) > 0
+                    {
                         self.m.abandon_rounds += 1;
                         self.m.counters.abandoned_retries += 1;
                     } else {
@@ -282,7 +284,7 @@ sized_impl!([] {
                         }
                         return false;
                     }
-                    self.m.counters.skipped += 1;
+                    self.skip_goal(&f);
                     return true;
                 }
                 Err(SearchError::NoPath) => {
@@ -298,7 +300,7 @@ sized_impl!([] {
                         self.m.phase = Phase::Return;
                         self.m.fine_is_edge = false;
                     } else {
-                        self.m.counters.skipped += 1;
+                        self.skip_goal(&f);
                     }
                     return true;
                 }

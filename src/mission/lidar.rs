@@ -7,8 +7,9 @@
 use super::{MapMode, Mission, Phase};
 use crate::localize::ScanMatcher;
 use crate::nav::geometry::explained;
+use crate::robot::beam::{beams, Beam};
 use crate::robot::lidar::LidarProtocol;
-use crate::robot::lidar_map::{beams, EvidenceMap};
+use crate::robot::lidar_map::EvidenceMap;
 
 /// A lidar hit: world mm, and whether the map explains it.
 pub(super) type Hit = (i32, i32, bool);
@@ -71,11 +72,19 @@ impl Mission {
             }
             let ring = &mut self.lidar.ring;
             let known = &*map;
-            beams(&pose, &self.cfg.mount, &frame, 0, |_, _, hx, hy, hit| {
-                if hit {
-                    ring.write((hx, hy, explained(known, (hx, hy))));
-                }
-            });
+            beams(
+                &pose,
+                &self.cfg.mount,
+                &frame,
+                0,
+                |&Beam {
+                     end: (hx, hy), hit, ..
+                 }| {
+                    if hit {
+                        ring.write((hx, hy, explained(known, (hx, hy))));
+                    }
+                },
+            );
             if self.lidar.asm.push(&frame, pose, &mut self.lidar.scan) {
                 self.counters.scans += 1;
                 let mappable = self.locate(map, matcher, now_us);

@@ -134,7 +134,7 @@ pub mod reflex;
 
 pub use config::{
     Counters, Fault, LocalPlanner, MapMode, MissionConfig, MotorCmd, State, HOME_TRIES,
-    MAX_RETRIES, QUEUE, RING, SCAN_FRAMES,
+    MAX_RETRIES, QUEUE, RING, SCAN_FRAMES, SKIPPED_GOALS,
 };
 pub use events::{Capacity, Event, EventKind, EVENTS};
 pub use handoff::HANDOFF;
@@ -256,6 +256,8 @@ pub struct Mission {
     reopens: u32,
     edge_reopens: u32,
     abandon_rounds: u8,
+    /// Planning cells of cleaning goals the fine search found no way to.
+    skipped_goals: heapless::Vec<crate::grid::Cell, SKIPPED_GOALS>,
     /// The goals given up were tried once more after the edge pass.
     late_retry: bool,
     home_tries: u16,
@@ -351,6 +353,7 @@ impl Mission {
             reopens: 0,
             edge_reopens: 0,
             abandon_rounds: 0,
+            skipped_goals: heapless::Vec::new(),
             late_retry: false,
             home_tries: 0,
             edge_tries: 0,

@@ -3,12 +3,18 @@
 //! later pass, and planning a leg again when the guard held the robot.
 
 use super::handoff::Note;
-use super::{Activity, Fault, Phase, MAX_RETRIES, QUEUE};
+use super::{Activity, Fault, Feed, MapMode, Phase, MAX_RETRIES, QUEUE};
 use crate::grid::{Cell, Layer};
 use crate::math::cost::dist_mm;
 use crate::nav::cspace;
 use crate::nav::follow::SubPath;
 use crate::robot::odometry::Pose;
+
+/// The point `k / steps` of the way from `a` to `b`, mm.
+fn lerp_mm(a: (i32, i32), b: (i32, i32), k: i64, steps: i64) -> (i32, i32) {
+    let at = |p: i32, q: i32| (p as i64 + (q - p) as i64 * k / steps.max(1)) as i32;
+    (at(a.0, b.0), at(a.1, b.1))
+}
 
 sized_impl!([] {
     pub(super) fn fail(&mut self, f: Fault) {
@@ -85,36 +91,19 @@ sized_impl!([] {
                 let cell = m.cfg.plan_cell_mm;
                 let steps = (len / 100).max(1);
                 for k in 0..=steps {
-                    let x = seg.from.0 as i64 + (seg.to.0 - seg.from.0) as i64 * k / steps;
-                    let y = seg.from.1 as i64 + (seg.to.1 - seg.from.1) as i64 * k / steps;
-                    let (gx, gy) = cspace::coarse_of(self.p.map, cell, x as i32, y as i32);
-                    let g = &mut *self.p.coarse;
-                    if !g.get(Layer::Known, gx, gy) && g.get(Layer::Covered, gx, gy)
-                    {
-                        let _ = g.set(Layer::Covered, gx, gy, false);
-                        if let Some(c) = Cell::from_xy(gx, gy) {
-                            self.p.planner.add_point(g, c);
-                        }
-                        any = true;
-                    }
+                    let (x, y) = lerp_mm(seg.from, seg.to, k, steps);
+                    let (gx, gy) = cspace::coarse_of(self.p.map, cell, x, y);
+                    any |= self.reopen_coarse(gx, gy);
                 }
                 if any {
-                    let at = last_end.unwrap_or(seg.to);
-                    let (gx, gy) = cspace::coarse_of(self.p.map, cell, at.0, at.1);
-                    if let Some(c) = Cell::from_xy(gx, gy)
-                        .filter(|c| self.p.coarse.is_free(c.x as i32, c.y as i32))
-                    {
-                        self.p.planner.reopen(c);
-                    }
-                    m.planner_done = false;
+                    self.resume_planner(last_end.unwrap_or(seg.to));
                 }
             }
             Phase::Edge => {
                 let steps = (len / 25).max(1);
                 for k in 0..=steps {
-                    let x = seg.from.0 as i64 + (seg.to.0 - seg.from.0) as i64 * k / steps;
-                    let y = seg.from.1 as i64 + (seg.to.1 - seg.from.1) as i64 * k / steps;
-                    let (cx, cy) = self.p.map.cell_of(x as i32, y as i32);
+                    let (x, y) = lerp_mm(seg.from, seg.to, k, steps);
+                    let (cx, cy) = self.p.map.cell_of(x, y);
                     any |= reopen_contour_near(self.p.fine, cx, cy);
                 }
                 if any {
@@ -125,9 +114,80 @@ sized_impl!([] {
             _ => {}
         }
         if any {
-            m.reopens += 1;
-            m.counters.retried += 1;
+            self.m.reopens += 1;
+            self.m.counters.retried += 1;
         }
+    }
+
+    /// A planning cell the planner took as covered and the robot's centre
+    /// never crossed goes back to the planner; true when it did.
+    fn reopen_coarse(&mut self, gx: i32, gy: i32) -> bool {
+        let g = &mut *self.p.coarse;
+        if g.get(Layer::Known, gx, gy) || !g.get(Layer::Covered, gx, gy) {
+            return false;
+        }
+        let _ = g.set(Layer::Covered, gx, gy, false);
+        if let Some(c) = Cell::from_xy(gx, gy) {
+            self.p.planner.add_point(g, c);
+        }
+        true
+    }
+
+    /// Cells went back to the planner: it plans again, from the planning
+    /// cell of `at` (where the robot will be).
+    fn resume_planner(&mut self, at: (i32, i32)) {
+        let (gx, gy) = cspace::coarse_of(self.p.map, self.m.cfg.plan_cell_mm, at.0, at.1);
+        if let Some(c) =
+            Cell::from_xy(gx, gy).filter(|c| self.p.coarse.is_free(c.x as i32, c.y as i32))
+        {
+            self.p.planner.reopen(c);
+        }
+        self.m.planner_done = false;
+    }
+
+    /// The fine search found no way to the fed path's goal: it is
+    /// skipped. A cleaning goal's planning cell, which the planner took as
+    /// covered when it chose it, is kept to be handed back when the
+    /// planner finishes ([`Self::hand_back_skipped`]): the robot boxed in
+    /// a moment by a person must not throw a lane away. The studio, known
+    /// map, 1 person, realistic noise, seed 3, with the exact beam walk:
+    /// 15 cells of one lane were skipped so while a person stood by the
+    /// robot, and left unswept (96.64 % covered). Known mode only: in
+    /// unknown mode a goal with no way to it is mostly one seen through a
+    /// gap in a map still growing, which the planner's own abandoned goals
+    /// and their late retry cover (handing those back too was measured
+    /// with two other give-backs: the real homes' unknown-mode coverage
+    /// fell from 96.16 to 95.46 %).
+    pub(super) fn skip_goal(&mut self, f: &Feed) {
+        let m = &mut *self.m;
+        m.counters.skipped += 1;
+        if !f.cover || m.phase != Phase::Cover || m.cfg.mode != MapMode::Known {
+            return;
+        }
+        let to = f.then.unwrap_or(f.from);
+        let (gx, gy) = cspace::coarse_of(self.p.map, m.cfg.plan_cell_mm, to.0, to.1);
+        if let Some(c) = Cell::from_xy(gx, gy) {
+            if !m.skipped_goals.contains(&c) {
+                let _ = m.skipped_goals.push(c);
+            }
+        }
+    }
+
+    /// The planner finished: the cleaning goals skipped since go back to
+    /// it (those the robot's centre has crossed since excepted), like the
+    /// goals it gave up itself ([`crate::coverage::Planner::retry_abandoned`]),
+    /// within the same two rounds. How many went back.
+    pub(super) fn hand_back_skipped(&mut self, at: Cell) -> u32 {
+        let skipped = core::mem::take(&mut self.m.skipped_goals);
+        let mut n = 0;
+        for c in skipped.iter() {
+            n += u32::from(self.reopen_coarse(c.x as i32, c.y as i32));
+        }
+        if n > 0 {
+            self.p.planner.reopen(at);
+            self.m.planner_done = false;
+        }
+        n
     }
 
     /// Every cleaning sub-path still queued goes back for a later pass

@@ -18,15 +18,16 @@
 //! that frame (x forward, θ counter-clockwise). Cells are addressed like
 //! [`Grid`]: column from the left, row from the top.
 //!
-//! **Beams** are traced with an integer Bresenham walk from the lidar's
-//! cell to the hit cell. Returns of 0 (no echo) are skipped; returns beyond
-//! the maximum range clear the beam up to that range and mark nothing.
+//! **Beams** are traced with an exact integer walk over the cells the
+//! segment from the lidar to half a cell past the return passes through
+//! ([`crate::robot::beam::walk`]); the cell there gets the hit. Returns of 0 (no echo) are skipped;
+//! returns beyond the maximum range clear the beam up to that range and
+//! mark nothing.
 
 use crate::grid::{Grid, GridError, Zone, ZoneError, Zones};
-use crate::math::angle::sin_cos_q30;
+pub use crate::robot::beam::LidarMount;
+use crate::robot::beam::{beams, walk, Beam};
 use crate::robot::lidar::scan::Scan;
-use crate::robot::lidar::LidarFrame;
-use crate::robot::odometry::Pose;
 
 /// Evidence added by a beam ending in a cell.
 pub const HIT: i8 = 3;
@@ -74,42 +75,6 @@ fn state_of(e: i8) -> CellState {
         CellState::Free
     } else {
         CellState::Unknown
-    }
-}
-
-/// Where the lidar sits on the robot and how its angles run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct LidarMount {
-    /// Forward offset from the robot's centre, mm.
-    pub offset_x_mm: i32,
-    /// Leftward offset, mm.
-    pub offset_y_mm: i32,
-    /// Bearing of the robot's forward axis in the lidar's own angles, mrad.
-    pub zero_mrad: i32,
-    /// True when the lidar's angles grow clockwise (LD06/LD19 do).
-    pub clockwise: bool,
-    /// Shortest range used, mm.
-    pub min_range_mm: u16,
-    /// Longest range used, mm.
-    pub max_range_mm: u16,
-}
-
-impl LidarMount {
-    /// An LD06/LD19 at the robot's centre, its zero bearing forward, using
-    /// ranges of 20 mm to 12 m (the datasheet's span); `clockwise` as its
-    /// angles grow (the real sensor's, true; a mirrored test stream's,
-    /// false).
-    pub const fn ld06_centred(clockwise: bool) -> Self {
-        Self {
-            offset_x_mm: 0,
-            offset_y_mm: 0,
-            zero_mrad: 0,
-            clockwise,
-            min_range_mm: 20,
-            max_range_mm: 12_000,
-        }
     }
 }
 
@@ -426,8 +391,8 @@ impl<const B: usize> EvidenceMap<B> {
         // rather than the free one before it.
         let past_hit = self.res_mm as i64 / 2;
         for (pose, frame) in scan.frames() {
-            beams(pose, mount, frame, past_hit, |ox, oy, hx, hy, hit| {
-                updated += self.trace(ox, oy, hx, hy, hit);
+            beams(pose, mount, frame, past_hit, |b| {
+                updated += self.trace_beam(b);
             });
         }
         updated
@@ -436,37 +401,25 @@ impl<const B: usize> EvidenceMap<B> {
     /// Marks the cells from (x0, y0) to (x1, y1) (world mm): free along the
     /// way, occupied at the end when `hit`.
     pub fn trace(&mut self, x0: i32, y0: i32, x1: i32, y1: i32, hit: bool) -> u32 {
-        let (mut cx, mut cy) = self.cell_of(x0, y0);
-        let (ex, ey) = self.cell_of(x1, y1);
-        let dx = (ex - cx).abs();
-        let dy = -(ey - cy).abs();
-        let sx = if cx < ex { 1 } else { -1 };
-        let sy = if cy < ey { 1 } else { -1 };
-        let mut err = dx + dy;
-        let mut n = 0u32;
-        // The cells whose state changed on this beam, gathered in
-        // registers and merged into the map's box once.
-        let mut ch = NO_CELLS;
-        // Bounded: each iteration moves one cell closer.
-        for _ in 0..=(dx - dy) {
-            if (cx, cy) == (ex, ey) {
-                break;
-            }
-            if self.add(cx, cy, MISS) {
-                ch = union_box(ch, (cx, cy, cx, cy));
-            }
-            n += 1;
-            let e2 = 2 * err;
-            if e2 >= dy {
-                err += dy;
-                cx += sx;
-            }
-            if e2 <= dx {
-                err += dx;
-                cy += sy;
-            }
-        }
-        let end = if hit {
+        self.trace_beam(&Beam {
+            origin: (x0, y0),
+            end: (x1, y1),
+            past: (x1, y1),
+            hit,
+        })
+    }
+
+    /// Marks one beam: every cell the segment from the origin to `past`
+    /// truly passes through ([`walk`]) is free, except `past`'s own cell,
+    /// which a hit marks (half a cell beyond the return, inside the
+    /// obstacle) and a beam with no return clears. Walking to `past`
+    /// rather than to the return keeps the Bresenham line's reach (only
+    /// the cells between changed): stopping at the return's cell was
+    /// tried and thickened walls, losing coverage along them.
+    pub fn trace_beam(&mut self, b: &Beam) -> u32 {
+        let (mut n, mut ch) = self.walk_free(b.origin, b.past);
+        let (ex, ey) = self.cell_of(b.past.0, b.past.1);
+        let end = if b.hit {
             !self.near_prior_wall(ex, ey) && self.add(ex, ey, HIT)
         } else {
             self.add(ex, ey, MISS)
@@ -475,7 +428,24 @@ impl<const B: usize> EvidenceMap<B> {
             ch = union_box(ch, (ex, ey, ex, ey));
         }
         self.changed = union_box(self.changed, ch);
-        n + 1
+        n += 1;
+        n
+    }
+
+    /// Adds [`MISS`] to every cell the segment a → b passes through before
+    /// b's cell ([`walk`]); the cells visited and the box of those whose
+    /// state changed.
+    fn walk_free(&mut self, a: (i32, i32), b: (i32, i32)) -> (u32, CellBox) {
+        let (mut n, mut ch) = (0u32, NO_CELLS);
+        let top = self.height as i64 - 1;
+        walk(a, b, self.res_mm, |ix, iy| {
+            let (cx, cy) = (ix as i32, (top - iy) as i32);
+            if self.add(cx, cy, MISS) {
+                ch = union_box(ch, (cx, cy, cx, cy));
+            }
+            n += 1;
+        });
+        (n, ch)
     }
 
     /// Derives the planner's grid (cells of `cell_mm`, the same world
@@ -530,48 +500,5 @@ impl<const B: usize> EvidenceMap<B> {
             }
         }
         Ok(())
-    }
-}
-
-/// Every usable beam of a frame taken at `pose`, in world mm: calls
-/// `f(origin_x, origin_y, end_x, end_y, hit)`. A return ends `past_hit_mm`
-/// beyond the measured range; a beam with no return within range ends at
-/// the longest range with `hit` false. Shared by the evidence map and the
-/// executive's obstacle points.
-pub fn beams(
-    pose: &Pose,
-    mount: &LidarMount,
-    frame: &LidarFrame,
-    past_hit_mm: i64,
-    mut f: impl FnMut(i32, i32, i32, i32, bool),
-) {
-    let th = pose.theta_mrad as i64 * 1000;
-    let (s, c) = sin_cos_q30(th);
-    let ox =
-        pose.x_mm as i64 + ((mount.offset_x_mm as i64 * c - mount.offset_y_mm as i64 * s) >> 30);
-    let oy =
-        pose.y_mm as i64 + ((mount.offset_x_mm as i64 * s + mount.offset_y_mm as i64 * c) >> 30);
-    for p in frame.points() {
-        if p.dist_mm == 0 || p.dist_mm < mount.min_range_mm {
-            continue;
-        }
-        let (range, hit) = if p.dist_mm > mount.max_range_mm {
-            (mount.max_range_mm as i64, false)
-        } else {
-            (p.dist_mm as i64, true)
-        };
-        // Bearing in the lidar's angles → robot frame → world.
-        let b_urad = p.angle_cdeg as i64 * 174_533 / 1000 - mount.zero_mrad as i64 * 1000;
-        let rel = if mount.clockwise { -b_urad } else { b_urad };
-        let (bs, bc) = sin_cos_q30(th + rel);
-        let reach = range + if hit { past_hit_mm } else { 0 };
-        let clamp = |v: i64| v.clamp(-(1 << 30), 1 << 30) as i32;
-        f(
-            clamp(ox),
-            clamp(oy),
-            clamp(ox + ((reach * bc) >> 30)),
-            clamp(oy + ((reach * bs) >> 30)),
-            hit,
-        );
     }
 }

@@ -3,6 +3,7 @@
 //! and `grid`.
 
 pub mod battery;
+pub mod beam;
 pub mod debounce;
 pub mod hal;
 pub mod lidar;
