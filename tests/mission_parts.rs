@@ -248,3 +248,68 @@ fn edge_pass_skips_the_stretches_the_lanes_swept() {
         "{edge_moves} against {all_edge}"
     );
 }
+
+/// Steps `pass` until it moves `moves` times; then `close` changes the
+/// grid (the map changed under the pass), and the pass is stepped to its
+/// end or its first error.
+fn pass_with_change(
+    moves: usize,
+    close: impl Fn(&mut G, Cell),
+) -> (EdgePass, Result<EdgeStep, robovac::search::SearchError>) {
+    let map = room();
+    let mut fine = Box::new(G::new());
+    build_fine(&map, &mut fine, 175, false).unwrap();
+    let mut pass = EdgePass::new();
+    assert!(pass.start(&mut fine, Cell::new(30, 30)));
+    let mut search = Box::new(S::new());
+    let mut state = Box::new(St::new());
+    let mut path = vec![Cell::default(); 120 * 100];
+    let mut moved = 0;
+    for _ in 0..200_000 {
+        let r = pass.step(&mut fine, &mut search, &mut state, &mut path, 500);
+        match r {
+            Ok(EdgeStep::Move { .. }) => {
+                moved += 1;
+                if moved == moves {
+                    close(&mut fine, pass.position());
+                }
+            }
+            Ok(EdgeStep::Pending) => {}
+            _ => return (pass, r),
+        }
+    }
+    panic!("the pass never ended");
+}
+
+/// Someone beside the robot is mapped all round it (a ring two cells
+/// out): the transit searches fail having explored a handful of cells.
+/// The goals are not unreachable, the robot is: the pass says so
+/// (`StartBlocked`, the mission builds it again from a fresher map) and
+/// marks no contour visited that it never drove.
+#[test]
+fn edge_pass_boxed_in_gives_up_no_contour() {
+    let (pass, r) = pass_with_change(20, |fine, at| {
+        let (x, y) = (at.x as i32, at.y as i32);
+        for (dx, dy) in (-2i32..=2).flat_map(|dy| (-2i32..=2).map(move |dx| (dx, dy))) {
+            if dx.abs() == 2 || dy.abs() == 2 {
+                fine.set_obstacle(x + dx, y + dy, true).unwrap();
+            }
+        }
+    });
+    assert_eq!(r, Err(robovac::search::SearchError::StartBlocked));
+    assert_eq!(pass.stats.unreachable, 0);
+}
+
+/// A wall across the room after the fill: the robot's side is most of
+/// the room, so the contours beyond the wall are unreachable, marked so,
+/// and the pass ends.
+#[test]
+fn edge_pass_marks_contours_cut_off_beyond_a_new_wall() {
+    let (pass, r) = pass_with_change(20, |fine, _| {
+        for y in 0..100 {
+            fine.set_obstacle(95, y, true).unwrap();
+        }
+    });
+    assert_eq!(r, Ok(EdgeStep::Done));
+    assert!(pass.stats.unreachable > 0, "{:?}", pass.stats);
+}

@@ -16,12 +16,28 @@
 //! - the heading only when its information passes [`MIN_INFO_THETA`];
 //! - a correction beyond [`GATE_MM`] or [`GATE_URAD`] is not believed
 //!   (it counts as a failed match);
-//! - nor is one beyond [`SETTLED_MM`] or [`SETTLED_URAD`] whose refined
-//!   pose fits fewer points than the prediction did: Gauss–Newton follows
+//! - nor is one whose refined pose fits fewer points than the prediction
+//!   did (by more than [`SLIDE_LOSS_PCT`] %, or at all beyond
+//!   [`SETTLED_MM`] or [`SETTLED_URAD`]): Gauss–Newton follows
 //!   the smoothed map's slope, and beside a person in a narrow room it
 //!   slid 41 mm to a pose fitting 76 % against the prediction's 85 % (the
 //!   S6 home, unknown mode, realistic, 1 person, seed 1, 814 s); unknown
-//!   mode then mapped the room 50 mm off and never came back.
+//!   mode then mapped the room 50 mm off and never came back;
+//! - when the map is being written (unknown mode), the heading is
+//!   believed despite too little heading information when the refined
+//!   heading fits [`HEADING_GAIN_PCT`] % more points than the prediction:
+//!   beside a thick wall the points inside it have no gradient, and a
+//!   robot turning there kept a heading drift its map then took in (the
+//!   1c home, unknown mode, realistic, 1 person, seed 1, lost, with the
+//!   slide bound at 2 %; 2.7 mm pose RMS with the heading step).
+//!
+//! **Mapping only.** The slide bound below [`SETTLED_MM`] and the heading
+//! step act only when the scan is matched against the map being written
+//! (`prior_only` false): a slide written into it stays there, while a
+//! known prior map corrects the next revolution. On a known prior the
+//! slide bound (at 2 %) refused 176 revolutions in a mission and its edge pass
+//! kept off a wall (the l10su home, known mode, seed 7: 96.1 % covered
+//! against 97.4 %).
 //!
 //! Otherwise the odometry carries on alone. An accepted correction is
 //! applied at most [`STEP_MM`] and [`STEP_URAD`] per revolution (10 Hz;
@@ -101,6 +117,22 @@ pub const WIDE_HEADING_STEPS: i64 = 15;
 /// prediction and after refinement, widens the next heading search (the
 /// twin fits 90–99 % at the true pose, 80 % and more with people about).
 pub const WIDE_AFTER_FIT_PCT: u32 = 80;
+/// Points, % of the scan, that a refinement within [`SETTLED_MM`] and
+/// [`SETTLED_URAD`] may fit fewer than the prediction and still be
+/// believed when mapping (beyond them: none). A person walking past
+/// within 0.4 m slid the pose by 20, 19 and 8 mm in three revolutions,
+/// each fitting 5–12 % fewer points than its prediction (the S6 home,
+/// unknown mode, realistic, 1 person, seed 2, 2,429 s: pose RMS 17.5 mm,
+/// not docked; 2.7 mm and docked with the bound). 2 % refused 60–110
+/// sound revolutions a mission on the flats (a refinement maximises the
+/// smoothed map's score, not the count of points on walls), and harsh
+/// floors' unknown-mode coverage fell to 91.7 % at worst; at 4 % it is
+/// 95.2 %, and the refusals are back to 1–12.
+pub const SLIDE_LOSS_PCT: u32 = 4;
+/// Points, % of the scan, by which a refined heading must fit better than
+/// the prediction to be believed with too little heading information
+/// ([`MIN_INFO_THETA`]); mapping only (the module doc).
+pub const HEADING_GAIN_PCT: u32 = 5;
 /// A correction beyond this, mm, leaves the pose in doubt: not mapped.
 pub const SETTLED_MM: i32 = 30;
 /// A heading correction beyond this, µrad (1°), leaves the pose in doubt.
@@ -254,7 +286,8 @@ impl Fusion {
             self.lost = true;
             self.stats.lost += 1;
         }
-        let out = r.and_then(|(mt, at_guess)| self.accept(&mt, at_guess, m.points.reference()));
+        let from = m.points.reference();
+        let out = r.and_then(|(mt, at_guess)| self.accept(&mt, at_guess, from, !prior_only));
         if out.is_err() {
             self.stats.rejected += 1;
         }
@@ -285,9 +318,16 @@ impl Fusion {
     }
 
     /// The policy of the module doc on one refined match (`at_guess`: the
-    /// points the prediction fitted): the whole correction believed (the
-    /// caller clamps it to a step).
-    fn accept(&mut self, mt: &Match, at_guess: u32, from: PoseU) -> Result<Correction, MatchError> {
+    /// points the prediction fitted; `mapping`: matched against the map
+    /// being written): the whole correction believed (the caller clamps
+    /// it to a step).
+    fn accept(
+        &mut self,
+        mt: &Match,
+        at_guess: u32,
+        from: PoseU,
+        mapping: bool,
+    ) -> Result<Correction, MatchError> {
         if mt.inliers * 100 < MIN_INLIER_PCT * mt.points {
             return Err(MatchError::PoorFit);
         }
@@ -303,14 +343,22 @@ impl Fusion {
             let along = (dx as i64 * ax + dy as i64 * ay) >> 14;
             (dx, dy) = (((along * ax) >> 14) as i32, ((along * ay) >> 14) as i32);
         }
-        if mt.info_theta < MIN_INFO_THETA {
+        // Too little heading information: none, unless mapping and the
+        // refined heading fits clearly better than the prediction.
+        let gain = HEADING_GAIN_PCT * mt.points / 100;
+        if mt.info_theta < MIN_INFO_THETA && !(mapping && mt.inliers >= at_guess + gain) {
             dt = 0;
         }
         if dx.abs() > GATE_MM || dy.abs() > GATE_MM || dt.abs() > GATE_URAD {
             return Err(MatchError::PoorFit);
         }
         let large = dx.abs() > SETTLED_MM || dy.abs() > SETTLED_MM || dt.abs() > SETTLED_URAD;
-        if large && mt.inliers < at_guess {
+        let may_lose = match (large, mapping) {
+            (true, _) => 0,
+            (false, true) => SLIDE_LOSS_PCT * mt.points / 100,
+            (false, false) => u32::MAX,
+        };
+        if mt.inliers.saturating_add(may_lose) < at_guess {
             return Err(MatchError::PoorFit);
         }
         self.tracking = true;
@@ -562,20 +610,53 @@ mod tests {
     };
 
     /// A correction beyond the settled bound must fit at least as many
-    /// points as the prediction; a small one may fit a few fewer, and a
-    /// large one that fits more is believed.
+    /// points as the prediction. A small one may fit a few fewer (the
+    /// smoothed map's slope): up to [`SLIDE_LOSS_PCT`] % when mapping,
+    /// any number against a known prior.
     #[test]
-    fn a_large_correction_must_fit_as_well_as_the_prediction() {
+    fn a_correction_must_fit_as_well_as_the_prediction() {
         let mut f = Fusion::new();
         let slid = SETTLED_MM + 11;
+        for mapping in [true, false] {
+            assert_eq!(
+                f.accept(&matched(slid, 108), 119, FROM, mapping),
+                Err(MatchError::PoorFit)
+            );
+            let ok = Ok((slid, 0, 0));
+            assert_eq!(f.accept(&matched(slid, 119), 119, FROM, mapping), ok);
+            assert_eq!(f.accept(&matched(slid, 130), 119, FROM, mapping), ok);
+            // 4 % of 140 points (5) may be lost when mapping.
+            assert_eq!(
+                f.accept(&matched(12, 114), 119, FROM, mapping),
+                Ok((12, 0, 0))
+            );
+        }
         assert_eq!(
-            f.accept(&matched(slid, 108), 119, FROM),
+            f.accept(&matched(12, 113), 119, FROM, true),
             Err(MatchError::PoorFit)
         );
-        assert_eq!(f.accept(&matched(slid, 119), 119, FROM), Ok((slid, 0, 0)));
-        assert_eq!(f.accept(&matched(slid, 130), 119, FROM), Ok((slid, 0, 0)));
-        // Within the settled bound a refinement may fit a few fewer
-        // points (the smoothed map's slope): a slide needs a large step.
-        assert_eq!(f.accept(&matched(12, 110), 119, FROM), Ok((12, 0, 0)));
+        assert_eq!(
+            f.accept(&matched(12, 100), 119, FROM, false),
+            Ok((12, 0, 0))
+        );
+    }
+
+    /// Too little heading information: the heading is kept, unless the
+    /// map is being written and the refined heading fits
+    /// [`HEADING_GAIN_PCT`] % (7 of 140 points) more than the prediction.
+    #[test]
+    fn a_weak_heading_is_believed_only_when_it_fits_clearly_better() {
+        let mut f = Fusion::new();
+        let turned = |inliers| Match {
+            pose: PoseU {
+                theta_urad: 10_000,
+                ..FROM
+            },
+            info_theta: MIN_INFO_THETA - 1,
+            ..matched(0, inliers)
+        };
+        assert_eq!(f.accept(&turned(126), 119, FROM, true), Ok((0, 0, 10_000)));
+        assert_eq!(f.accept(&turned(125), 119, FROM, true), Ok((0, 0, 0)));
+        assert_eq!(f.accept(&turned(126), 119, FROM, false), Ok((0, 0, 0)));
     }
 }

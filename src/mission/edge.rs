@@ -246,6 +246,13 @@ sized_impl!([] {
                     self.restart_edge();
                     return;
                 }
+                Err(SearchError::StartBlocked | SearchError::GoalBlocked) => {
+                    // Boxed in through every restart: the pass ends here.
+                    self.flush_chord();
+                    let pose = self.m.drive.odom.pose();
+                    self.edges_done(&pose);
+                    return;
+                }
                 Ok(EdgeStep::Move { to, edge }) => {
                     let p = cspace::fine_centre_mm(self.p.map, to.x as i32, to.y as i32);
                     self.edge_point(p, edge);
