@@ -76,13 +76,10 @@
 
 use super::correlative::{self, wrap_urad};
 use super::field::Field;
-use super::gauss_newton::{normal, refine, Normal};
+pub use super::track::{conditioned, track, track_within, HEADING_STEPS, MIN_POINTS};
 use super::{Match, MatchError, PoseU, ScanMatcher};
-use crate::math::cost::isqrt_u64;
 use crate::robot::lidar_map::EvidenceMap;
 
-/// Points a match needs.
-pub const MIN_POINTS: u32 = 30;
 /// Share of points on walls for an accepted match, %.
 pub const MIN_INLIER_PCT: u32 = 50;
 /// Information an axis needs (Q16 per 5 cm cell²: about a dozen points
@@ -102,14 +99,6 @@ pub const GATE_URAD: i64 = 260_000;
 /// studio mission (3 people, seed 3) lost itself 59 times and failed;
 /// not taken.
 pub const STEP_MM: i32 = 40;
-/// Heading candidates each side of the odometry's, 1° apart, before
-/// Gauss–Newton. Two slip bursts in one revolution on a harsh floor (2–5°
-/// each) can leave an 8° error that ±6° cannot see (the home flat in
-/// unknown mode, harsh, seed 1: lost, its map written in a turned frame).
-/// ±10° kept that mission (+24 % instructions per match, 1.37 M) but cost
-/// a wall contact in the bumper's harsh studio test, so it is not taken
-/// yet.
-pub const HEADING_STEPS: i64 = 6;
 /// Heading candidates each side, 1° apart, in the revolution after a
 /// poor fit (the module doc's doubt).
 pub const WIDE_HEADING_STEPS: i64 = 15;
@@ -509,77 +498,6 @@ impl Fit {
             }
             Err(_) => true,
         }
-    }
-}
-
-/// Refines the loaded scan from its reference pose through the levels;
-/// returns the match and the inliers at the prediction itself.
-pub fn track<const EV: usize, const MW: usize>(
-    m: &ScanMatcher<MW>,
-    map: &EvidenceMap<EV>,
-    prior_only: bool,
-) -> Result<(Match, u32), MatchError> {
-    track_within(m, map, prior_only, HEADING_STEPS)
-}
-
-/// [`track`] with `steps` heading candidates (1° apart) each side of the
-/// prediction.
-pub fn track_within<const EV: usize, const MW: usize>(
-    m: &ScanMatcher<MW>,
-    map: &EvidenceMap<EV>,
-    prior_only: bool,
-    steps: i64,
-) -> Result<(Match, u32), MatchError> {
-    let pts = m.points.as_slice();
-    if (pts.len() as u32) < MIN_POINTS {
-        return Err(MatchError::TooFewPoints);
-    }
-    let guess = m.points.reference();
-    let fine = Field::new(map, &m.pyramid, 0, prior_only);
-    let at_guess = normal(&fine, pts, &guess).inliers;
-    let mut pose = guess;
-    if m.pyramid.ready() {
-        let f1 = Field::new(map, &m.pyramid, 1, prior_only);
-        pose = correlative::best_heading(&f1, pts, pose, steps, 17_453);
-        pose = refine(&f1, pts, pose, 5).0;
-    }
-    let (pose, n) = refine(&fine, pts, pose, 6);
-    if n.near < MIN_POINTS / 2 {
-        return Err(MatchError::Unconstrained);
-    }
-    Ok((conditioned(pose, &n, pts.len() as u32), at_guess))
-}
-
-/// A match with its information measures (the module doc's conditioning).
-pub fn conditioned(pose: PoseU, n: &Normal, points: u32) -> Match {
-    // h = [xx, xy, xθ, yy, yθ, θθ]: the translational block's eigenvalues
-    // decide the axes; the heading's own information (θθ) its correction.
-    let [a, b, _, d, _, f] = n.h;
-    let half_tr = (a + d) / 2;
-    let half_diff = (a - d) / 2;
-    let disc =
-        isqrt_u64((half_diff as i128 * half_diff as i128 + b as i128 * b as i128) as u64) as i64;
-    let (lmax, lmin) = (half_tr + disc, half_tr - disc);
-    // Eigenvector of λmax: (b, λmax − a) or (λmax − d, b), the longer.
-    let (v1, v2) = ((b, lmax - a), (lmax - d, b));
-    let norm = |v: (i64, i64)| {
-        isqrt_u64((v.0 as i128 * v.0 as i128 + v.1 as i128 * v.1 as i128) as u64) as i64
-    };
-    let v = if norm(v1) >= norm(v2) { v1 } else { v2 };
-    let len = norm(v).max(1);
-    let axis = if norm(v) == 0 {
-        (1 << 14, 0)
-    } else {
-        (((v.0 << 14) / len) as i32, ((v.1 << 14) / len) as i32)
-    };
-    Match {
-        pose,
-        inliers: n.inliers,
-        points,
-        info_min: lmin,
-        info_max: lmax,
-        strong_axis_q14: axis,
-        info_theta: f,
     }
 }
 

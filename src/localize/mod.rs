@@ -37,6 +37,7 @@ pub mod fusion;
 pub mod gauss_newton;
 pub mod points;
 pub mod pyramid;
+pub mod track;
 
 pub use fusion::{Fusion, LocStats};
 pub use points::{ScanPoints, MATCH_POINTS};
