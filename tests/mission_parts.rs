@@ -1,12 +1,13 @@
 //! The executive's building blocks, checked independently: the safety
 //! guard's geometry, the configuration space's clearance, the planning
-//! cells' anchors, and the edge pass (every reachable boundary cell
-//! visited, moves between neighbours, never into an obstacle).
+//! cells' anchors, the stale-leg test's flicker tolerance, and the edge
+//! pass (every reachable boundary cell visited, moves between neighbours,
+//! never into an obstacle, what it never drove given back).
 
 use robovac::grid::{Cell, Grid, Layer};
 use robovac::nav::cspace::{self, build_fine, coarse_anchor, disc_blocked, update_coarse};
 use robovac::nav::edge::{is_boundary, EdgePass, EdgeStep};
-use robovac::nav::geometry::segment_clear;
+use robovac::nav::geometry::{segment_clear, segment_surely_clear};
 use robovac::nav::guard::{free_distance_mm, limit_speed, GuardParams};
 use robovac::robot::lidar_map::{evidence_bytes, CellState, EvidenceMap};
 use robovac::search::WindowSearch;
@@ -312,4 +313,72 @@ fn edge_pass_marks_contours_cut_off_beyond_a_new_wall() {
     });
     assert_eq!(r, Ok(EdgeStep::Done));
     assert!(pass.stats.unreachable > 0, "{:?}", pass.stats);
+}
+
+#[test]
+fn edge_pass_rechecks_the_contour_it_emitted_but_never_drove() {
+    let map = room();
+    let mut fine = Box::new(G::new());
+    build_fine(&map, &mut fine, 175, false).unwrap();
+    let start = Cell::new(30, 30);
+    let mut pass = EdgePass::new();
+    assert!(pass.start(&mut fine, start));
+    let (moves, _) = run_pass(&mut fine, &mut pass, start);
+    // The robot drove every move but a stretch of 30 in the middle (a
+    // queue the mission dropped when it planned a leg again).
+    let (a, b) = (moves.len() / 2, moves.len() / 2 + 30);
+    let dropped: Vec<Cell> = moves[a..b].to_vec();
+    for c in moves[..a].iter().chain(&moves[b..]) {
+        pass.driven(&mut fine, c.x as i32, c.y as i32);
+    }
+    let given_back = pass.recheck(&mut fine);
+    // The dropped stretch but its two ends (a driven neighbour counts).
+    assert!(
+        (20..=30).contains(&given_back),
+        "{given_back} cells given back"
+    );
+    let back: Vec<Cell> = dropped
+        .iter()
+        .copied()
+        .filter(|c| !fine.get(Layer::Covered, c.x as i32, c.y as i32))
+        .collect();
+    assert_eq!(back.len() as u32, given_back, "only dropped cells go back");
+    assert!(!pass.is_done(), "the walk goes on");
+    let (again, _) = run_pass(&mut fine, &mut pass, *moves.last().unwrap());
+    assert!(
+        back.iter().all(|c| again.contains(c)),
+        "the walk takes them"
+    );
+    for c in &again {
+        pass.driven(&mut fine, c.x as i32, c.y as i32);
+    }
+    assert_eq!(pass.recheck(&mut fine), 0, "all driven now");
+    assert!(!pass.rechecks_left(), "two rounds at most");
+    assert!(boundary_of(&fine)
+        .iter()
+        .all(|&(x, y)| fine.get(Layer::Covered, x, y)));
+}
+
+#[test]
+fn a_flickering_cell_at_a_walls_face_is_not_sure_to_block() {
+    let mut map = room();
+    // A leg along the bottom wall at the edge pass's clearance: the wall's
+    // face is at y = 100 mm, the leg 180 mm from it.
+    let (a, b) = ((1000, 280), (4000, 280));
+    assert!(segment_clear(&map, a, b, 175));
+    // One noisy return lands in the unknown cell in front of the face.
+    map.set_state(40, 97, CellState::Unknown);
+    map.trace(2025, 1000, 2025, 125, true);
+    assert_eq!(map.state(40, 97), CellState::Occupied);
+    assert!(!segment_clear(&map, a, b, 175), "it grazes the sweep");
+    assert!(
+        segment_surely_clear(&map, a, b, 175, 4),
+        "not sure to block"
+    );
+    // Hit again: a wall seen twice is sure.
+    map.trace(2025, 1000, 2025, 125, true);
+    assert!(!segment_surely_clear(&map, a, b, 175, 4));
+    // The table, seen well, blocks a leg through it either way.
+    let (c, d) = ((2000, 2700), (4000, 2700));
+    assert!(!segment_surely_clear(&map, c, d, 175, 4));
 }

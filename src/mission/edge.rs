@@ -14,7 +14,6 @@
 //! opens.
 
 use super::{Fault, MapMode, Phase, HOME_TRIES};
-use crate::grid::Layer;
 use crate::math::cost::dist_mm;
 use crate::nav::cspace;
 use crate::nav::edge::{EdgePass, EdgeStep};
@@ -55,21 +54,23 @@ sized_impl!([] {
         }
     }
 
-    /// Marks the lanes' track since the last mark on the fine grid's
-    /// covered layer (see the module's doc).
+    /// Marks the robot's track since the last mark on the fine grid's
+    /// covered layer (see the module's doc): the lanes' in the cover
+    /// phase; in the edge pass, what it drove ([`EdgePass::driven`]), which
+    /// its recheck compares with what it emitted.
     pub(super) fn trace_lanes(&mut self, pose: &Pose) {
         let to = (pose.x_mm, pose.y_mm);
         let from = match self.m.trace_at.replace(to) {
             Some(p) if dist_mm(p, to) <= TRACE_JUMP_MM => p,
             _ => to,
         };
-        let (map, fine) = (&*self.p.map, &mut *self.p.fine);
+        let (map, fine, pass) = (&*self.p.map, &mut *self.p.fine, &self.m.edge);
         if (fine.width(), fine.height()) != (map.width(), map.height()) {
             return;
         }
         along(from, to, map.res_mm() as i64, |x, y| {
             let (cx, cy) = map.cell_of(x as i32, y as i32);
-            let _ = fine.set(Layer::Covered, cx, cy, true);
+            pass.driven(fine, cx, cy);
             true
         });
     }
@@ -260,6 +261,14 @@ sized_impl!([] {
                 Ok(EdgeStep::Pending) => return,
                 Ok(EdgeStep::Done) => {
                     self.flush_chord();
+                    // What it emitted is driven (or dropped) first; then
+                    // the cells it never came near go back to the walk.
+                    if !self.m.queue.is_empty() && self.m.edge.rechecks_left() {
+                        return;
+                    }
+                    if self.m.edge.recheck(self.p.fine) > 0 {
+                        continue;
+                    }
                     let pose = self.m.drive.odom.pose();
                     self.edges_done(&pose);
                     return;

@@ -197,7 +197,10 @@ sized_impl!([MissionParts for Parts<'_, N, NW, OPEN, LCAP, PCAP, FW, EV, MW, CF>
         m.edge_progress_pending = false;
         let at = self.progress_at();
         let edges = progress_image::offset_after(at + progress_image::bytes(self.coarse));
-        progress_image::load(self.fine, self.map.res_mm(), store, edges)
+        let n = progress_image::load(self.fine, self.map.res_mm(), store, edges)?;
+        // The saved run drove them: not for the pass's recheck.
+        crate::nav::edge::settle_driven(self.fine);
+        Ok(n)
     }
 
     fn planner_view(&self) -> PlannerView {

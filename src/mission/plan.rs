@@ -92,6 +92,7 @@ sized_impl!([] {
             | Phase::SelfTestSettle { .. } => self.self_test(now_us, pose),
             Phase::Cover => self.cover_step(now_us, pose),
             Phase::Edge => {
+                self.trace_lanes(pose);
                 self.watch_corridor(now_us, pose);
                 if self.feed_path() && self.feed_route() {
                     self.top_up_edge();

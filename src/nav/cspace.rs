@@ -71,6 +71,35 @@ pub fn disc_blocked<const EV: usize>(
     radius_mm: i64,
     unknown_blocks: bool,
 ) -> bool {
+    disc_any(map, px, py, radius_mm, |cx, cy| {
+        cell_blocks(map, cx, cy, unknown_blocks)
+    })
+}
+
+/// [`disc_blocked`], counting only cells sure to block: no-go zones and
+/// evidence of at least `at_least` (a wall seen again and again, not a
+/// cell that flickers at the occupied threshold).
+pub fn disc_surely_blocked<const EV: usize>(
+    map: &EvidenceMap<EV>,
+    px: i64,
+    py: i64,
+    radius_mm: i64,
+    at_least: i8,
+) -> bool {
+    disc_any(map, px, py, radius_mm, |cx, cy| {
+        map.in_zone(cx, cy) || map.evidence(cx, cy) >= at_least
+    })
+}
+
+/// True when `blocks` holds for a cell a disc of `radius_mm` at
+/// index-space point (px, py) overlaps.
+fn disc_any<const EV: usize>(
+    map: &EvidenceMap<EV>,
+    px: i64,
+    py: i64,
+    radius_mm: i64,
+    blocks: impl Fn(i32, i32) -> bool,
+) -> bool {
     let res = map.res_mm().max(1) as i64;
     let r2 = radius_mm * radius_mm;
     let (c0x, c1x) = (
@@ -83,9 +112,7 @@ pub fn disc_blocked<const EV: usize>(
     );
     for cy in c0y..=c1y {
         for cx in c0x..=c1x {
-            if square_dist2(px, py, cx, cy, res) < r2
-                && cell_blocks(map, cx as i32, cy as i32, unknown_blocks)
-            {
+            if square_dist2(px, py, cx, cy, res) < r2 && blocks(cx as i32, cy as i32) {
                 return true;
             }
         }

@@ -115,11 +115,36 @@ pub fn segment_clear<const EV: usize>(
     b: (i32, i32),
     radius_mm: i64,
 ) -> bool {
+    slides(map, a, b, |x, y| {
+        cspace::disc_blocked(map, x, y, radius_mm, false)
+    })
+}
+
+/// [`segment_clear`], against the cells sure to block only
+/// ([`cspace::disc_surely_blocked`]).
+pub fn segment_surely_clear<const EV: usize>(
+    map: &EvidenceMap<EV>,
+    a: (i32, i32),
+    b: (i32, i32),
+    radius_mm: i64,
+    at_least: i8,
+) -> bool {
+    slides(map, a, b, |x, y| {
+        cspace::disc_surely_blocked(map, x, y, radius_mm, at_least)
+    })
+}
+
+/// True when `blocked` (a disc at an index-space point) holds nowhere on
+/// the segment a–b (world mm), checked every quarter cell.
+fn slides<const EV: usize>(
+    map: &EvidenceMap<EV>,
+    a: (i32, i32),
+    b: (i32, i32),
+    blocked: impl Fn(i64, i64) -> bool,
+) -> bool {
     let res = map.res_mm().max(1) as i64;
     let hmm = map.height() as i64 * res;
-    along(a, b, res, |x, y| {
-        !cspace::disc_blocked(map, x, hmm - y, radius_mm, false)
-    })
+    along(a, b, res, |x, y| !blocked(x, hmm - y))
 }
 
 /// True when `ok` holds at every point of the segment `a`-`b` (mm),
