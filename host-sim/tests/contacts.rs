@@ -10,14 +10,16 @@ use host_sim::sim::robot::Noise;
 use robovac::mission::MapMode;
 use truth::check_truth;
 
-/// The home flat, unknown mode, 3 people, realistic noise, seed 11. At
-/// 258 s a person walks into the robot's side in the 0.8 m wide pocket
-/// at (5.9, 0.7) m; the bump is marked (3 cells), and from 376 s the
-/// robot is boxed in on its map. Before the marks were forgotten the
-/// edge pass restarted "boxed in" every 0.5 s for 150 s and the mission failed
-/// with `NoWayHome` at 619 s, 18.5 % covered. Now the marks are forgotten
-/// after 5 s boxed in (`EvidenceMap::forget_contacts`): the robot leaves,
-/// cleans on and docks.
+/// The home flat, unknown mode, 3 people, realistic noise. With seed 11,
+/// at 258 s a person walked into the robot's side in the 0.8 m wide
+/// pocket at (5.9, 0.7) m; the bump was marked (3 cells), and from 376 s
+/// the robot was boxed in on its map. Before the marks were forgotten the
+/// edge pass restarted "boxed in" every 0.5 s for 150 s and the mission
+/// failed with `NoWayHome` at 619 s, 18.5 % covered. Now the marks are
+/// forgotten after 5 s boxed in (`EvidenceMap::forget_contacts`). Since
+/// the edge pass drives what it once dropped (stop 44), seed 11's robot
+/// is no longer bumped; seed 14's is (3 marks), and the mission must still
+/// clean on and dock. That the marks box it in is not checked here.
 #[test]
 fn marks_that_box_the_robot_in_are_forgotten() {
     let o = MissionOptions::new(
@@ -25,7 +27,7 @@ fn marks_that_box_the_robot_in_are_forgotten() {
         MapMode::Unknown,
         3,
         Noise::Realistic,
-        11,
+        14,
     );
     let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
     check_truth(&o, &rep, &t);
