@@ -227,8 +227,10 @@ impl EdgePass {
             }
         }
         self.stats.visited = self.stats.visited.saturating_sub(n);
-        let at = self.last;
-        self.reopen(at);
+        if n > 0 {
+            let at = self.last;
+            self.reopen(at);
+        }
         n
     }
 
