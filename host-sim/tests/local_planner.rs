@@ -18,15 +18,14 @@ use robovac::mission::{EventKind, LocalPlanner, MapMode};
 fn the_potential_field_steers_the_home_flat_and_shows_its_local_minima() {
     // Two people and realistic noise: this run meets one local minimum
     // (measured; the count is the executive's, checked against its events).
-    // Seed 11: seed 1 no longer meets one since given-up lanes are handed
-    // back whatever stands on them, nor seed 7 since the robot keeps off
-    // the walls beside it (`nav::keep_off`). Seed 16 still meets one with
-    // the exact beam walk, but its edge pass then grazes a door jamb's
-    // corner, rotating in place beside it (a wall contact of the kind the
-    // mission bench counts, not the potential field's doing); seeds 1-20
-    // tried, 11, 12 and 18 meet a minimum without contact.
+    // Seed 3. Earlier seeds stopped meeting one as the executive changed:
+    // seed 1 when given-up lanes were handed back whatever stands on them,
+    // seed 7 when the robot kept off the walls beside it (`nav::keep_off`),
+    // seed 16 when its edge pass grazed a door jamb, and seed 11 when the
+    // edge pass began to drive the contours it plans (issue 10). Seeds
+    // 1-40 tried: 3, 4 and 9 meet a minimum, with no contact.
     let map = suite_map("home").unwrap();
-    let mut o = MissionOptions::new(map, MapMode::Known, 2, Noise::Realistic, 11);
+    let mut o = MissionOptions::new(map, MapMode::Known, 2, Noise::Realistic, 3);
     o.local = LocalPlanner::Apf;
     let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
     truth::check_truth(&o, &rep, &t);
