@@ -272,3 +272,25 @@ fn contacts_are_forgotten_and_the_lidar_judges_them_again() {
     m.trace(50, y, x, y, true);
     assert_eq!(m.state(b.0, b.1), CellState::Occupied);
 }
+
+/// The edge pass's "sure to block" test counts the map's outside as
+/// blocked, as every other clearance check does: a disc hanging over the
+/// edge of a map whose border cells are free is not clear.
+#[test]
+fn the_maps_outside_is_surely_blocked() {
+    use robovac::nav::cspace::{disc_blocked, disc_surely_blocked};
+    let mut m: Box<EvidenceMap<{ evidence_bytes(20 * 20) }>> = Box::new(EvidenceMap::new());
+    m.reset(20, 20, 50).unwrap();
+    for cy in 0..20 {
+        for cx in 0..20 {
+            m.set_state(cx, cy, CellState::Free);
+        }
+    }
+    // Index space (the checks' own): the centre 100 mm from the left
+    // edge, radius 150 mm: the disc overlaps the outside.
+    assert!(disc_blocked(&*m, 100, 500, 150, false));
+    assert!(disc_surely_blocked(&*m, 100, 500, 150, 4));
+    // Well inside, nothing blocks.
+    assert!(!disc_blocked(&*m, 500, 500, 150, false));
+    assert!(!disc_surely_blocked(&*m, 500, 500, 150, 4));
+}

@@ -39,10 +39,7 @@ pub fn cell_blocks<const EV: usize>(
     cy: i32,
     unknown_blocks: bool,
 ) -> bool {
-    if cx < 0 || cy < 0 || cx as u32 >= map.width() || cy as u32 >= map.height() {
-        return true;
-    }
-    if map.in_zone(cx, cy) {
+    if off_map(map, cx, cy) || map.in_zone(cx, cy) {
         return true;
     }
     match map.state(cx, cy) {
@@ -76,9 +73,15 @@ pub fn disc_blocked<const EV: usize>(
     })
 }
 
-/// [`disc_blocked`], counting only cells sure to block: no-go zones and
-/// evidence of at least `at_least` (a wall seen again and again, not a
-/// cell that flickers at the occupied threshold).
+/// True when (cx, cy) lies outside the map: it blocks, whatever a
+/// caller's rule for the cells on it.
+fn off_map<const EV: usize>(map: &EvidenceMap<EV>, cx: i32, cy: i32) -> bool {
+    cx < 0 || cy < 0 || cx as u32 >= map.width() || cy as u32 >= map.height()
+}
+
+/// [`disc_blocked`], counting only cells sure to block: the map's outside,
+/// no-go zones and evidence of at least `at_least` (a wall seen again and
+/// again, not a cell that flickers at the occupied threshold).
 pub fn disc_surely_blocked<const EV: usize>(
     map: &EvidenceMap<EV>,
     px: i64,
@@ -87,7 +90,7 @@ pub fn disc_surely_blocked<const EV: usize>(
     at_least: i8,
 ) -> bool {
     disc_any(map, px, py, radius_mm, |cx, cy| {
-        map.in_zone(cx, cy) || map.evidence(cx, cy) >= at_least
+        off_map(map, cx, cy) || map.in_zone(cx, cy) || map.evidence(cx, cy) >= at_least
     })
 }
 
