@@ -13,7 +13,7 @@
 //! time a room's lanes are done ([`super::rooms`]), then the next room
 //! opens.
 
-use super::{Fault, MapMode, Phase, HOME_TRIES};
+use super::{Fault, MapMode, Phase, HOME_TRIES, MAX_RETRIES};
 use crate::math::cost::dist_mm;
 use crate::nav::cspace;
 use crate::nav::edge::{EdgePass, EdgeStep};
@@ -115,7 +115,10 @@ sized_impl!([] {
     /// lanes, or home.
     fn edges_done(&mut self, pose: &Pose) {
         let from = self.m.queue.last_end().unwrap_or((pose.x_mm, pose.y_mm));
-        if self.next_room_after_edges(from) || self.retry_after_edges(from) {
+        if self.next_room_after_edges(from)
+            || self.retry_after_edges(from)
+            || self.retry_undriven(from)
+        {
             let m = &mut *self.m;
             m.phase = Phase::Cover;
             m.fine_is_edge = false;
@@ -152,6 +155,32 @@ sized_impl!([] {
         let m = &mut *self.m;
         m.counters.abandoned_retries += 1;
         m.planner_done = false;
+        m.abandon_rounds = 0;
+        m.queue.reset(from);
+        true
+    }
+
+    /// The retry budget ran out ([`MAX_RETRIES`]): every sub-path given up
+    /// after that left its planning cells taken as covered, never driven
+    /// (the studio, unknown mode, 3 people, realistic, seed 3: 400 retries
+    /// spent by 700 s among people, and a 3.7 × 0.9 m strip left: 83.7 %).
+    /// Once per mission, after the edge pass, those cells go back to the
+    /// planner, from where the robot stands (`from`): 88.7 % (a person
+    /// kept standing in that strip). Missions that kept within the budget
+    /// do not come here, so they run as before (every real-home mission
+    /// does: 13 to 142 retries).
+    fn retry_undriven(&mut self, from: (i32, i32)) -> bool {
+        let m = &mut *self.m;
+        if m.undriven_retry || m.reopens < MAX_RETRIES || !m.planner_done {
+            return false;
+        }
+        m.undriven_retry = true;
+        if self.hand_back_undriven() == 0 {
+            return false;
+        }
+        self.resume_planner(from);
+        let m = &mut *self.m;
+        m.counters.retried += 1;
         m.abandon_rounds = 0;
         m.queue.reset(from);
         true

@@ -260,6 +260,9 @@ pub struct Mission {
     skipped_goals: heapless::Vec<crate::grid::Cell, SKIPPED_GOALS>,
     /// The goals given up were tried once more after the edge pass.
     late_retry: bool,
+    /// The cells taken as covered and never driven were handed back once,
+    /// after the retry budget ran out ([`MAX_RETRIES`]).
+    undriven_retry: bool,
     home_tries: u16,
     edge_tries: u16,
     started_us: u64,
@@ -355,6 +358,7 @@ impl Mission {
             abandon_rounds: 0,
             skipped_goals: heapless::Vec::new(),
             late_retry: false,
+            undriven_retry: false,
             home_tries: 0,
             edge_tries: 0,
             started_us: 0,

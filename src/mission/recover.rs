@@ -133,9 +133,25 @@ sized_impl!([] {
         true
     }
 
+    /// Every planning cell taken as covered and never driven goes back to
+    /// the planner ([`Self::reopen_coarse`]); how many did. One pass over
+    /// the planning grid (a few thousand cells).
+    pub(super) fn hand_back_undriven(&mut self) -> u32 {
+        let (w, h) = (self.p.coarse.width() as i32, self.p.coarse.height() as i32);
+        let mut n = 0;
+        for gy in 0..h {
+            for gx in 0..w {
+                if self.p.coarse.is_free(gx, gy) && self.reopen_coarse(gx, gy) {
+                    n += 1;
+                }
+            }
+        }
+        n
+    }
+
     /// Cells went back to the planner: it plans again, from the planning
     /// cell of `at` (where the robot will be).
-    fn resume_planner(&mut self, at: (i32, i32)) {
+    pub(super) fn resume_planner(&mut self, at: (i32, i32)) {
         let (gx, gy) = cspace::coarse_of(self.p.map, self.m.cfg.plan_cell_mm, at.0, at.1);
         if let Some(c) =
             Cell::from_xy(gx, gy).filter(|c| self.p.coarse.is_free(c.x as i32, c.y as i32))
