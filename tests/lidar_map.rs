@@ -273,6 +273,45 @@ fn contacts_are_forgotten_and_the_lidar_judges_them_again() {
     assert_eq!(m.state(b.0, b.1), CellState::Occupied);
 }
 
+/// The wall point a mapped lidar hit stands for (the guard judges it at
+/// full width instead of the hit): a point of the nearest occupied cell's
+/// square, the one nearest the robot, whatever the range noise on the
+/// hit, as long as the hit lies within the tolerance given (2.5 σ of the
+/// range noise) of that square.
+#[test]
+fn a_mapped_hit_stands_for_the_nearest_wall_point_of_its_cell() {
+    use robovac::nav::geometry::wall_offset;
+    let mut m: Box<EvidenceMap<{ evidence_bytes(20 * 20) }>> = Box::new(EvidenceMap::new());
+    m.reset(20, 20, 50).unwrap();
+    // One occupied cell: x 500..550 mm, y 500..550 mm (a door jamb's corner).
+    let (cx, cy) = m.cell_of(520, 520);
+    m.set_state(cx, cy, CellState::Occupied);
+    let snap = |q: (i32, i32), from: (i32, i32)| {
+        wall_offset(&*m, q, from, 25).map(|[dx, dy]| (q.0 + dx as i32, q.1 + dy as i32))
+    };
+    // Hits on the west face, 10 mm short and 10 mm deep (range noise),
+    // seen from the south-west: both stand for the corner (500, 500).
+    for q in [(490, 510), (510, 520), (495, 545)] {
+        assert_eq!(snap(q, (300, 300)), Some((500, 500)), "{q:?}");
+    }
+    // Seen from due west, the nearest point is on the west face.
+    assert_eq!(snap((490, 510), (200, 530)), Some((500, 530)));
+    // A robot standing inside the square (a bad pose) gets its own position.
+    assert_eq!(snap((520, 520), (510, 540)), Some((510, 540)));
+    // A hit 20 mm in front of the face is range noise; 40 mm in front,
+    // it is something else (a person by the wall) and stands for itself.
+    assert_eq!(snap((480, 520), (300, 300)), Some((500, 500)));
+    assert_eq!(snap((460, 520), (300, 300)), None);
+    // An ideal sensor (no tolerance): only a hit on the square stands for it.
+    assert_eq!(wall_offset(&*m, (500, 520), (300, 300), 0), Some([0, -20]));
+    assert_eq!(wall_offset(&*m, (499, 520), (300, 300), 0), None);
+    // No occupied cell within one cell of the hit: nothing to stand for.
+    assert_eq!(snap((390, 390), (300, 300)), None);
+    assert_eq!(snap((700, 700), (300, 300)), None);
+    // Off the map (a hit beyond its edge) reads unknown, never occupied.
+    assert_eq!(snap((-60, 2000), (300, 300)), None);
+}
+
 /// The edge pass's "sure to block" test counts the map's outside as
 /// blocked, as every other clearance check does: a disc hanging over the
 /// edge of a map whose border cells are free is not clear.

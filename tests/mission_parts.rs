@@ -7,8 +7,8 @@
 use robovac::grid::{Cell, Grid, Layer};
 use robovac::nav::cspace::{self, build_fine, coarse_anchor, disc_blocked, update_coarse};
 use robovac::nav::edge::{is_boundary, EdgePass, EdgeStep};
-use robovac::nav::geometry::{segment_clear, segment_surely_clear};
-use robovac::nav::guard::{free_distance_mm, limit_speed, GuardParams};
+use robovac::nav::geometry::{segment_clear, segment_surely_clear, wall_offset};
+use robovac::nav::guard::{free_distance_mm, free_distance_slack_mm, limit_speed, GuardParams};
 use robovac::robot::lidar_map::{evidence_bytes, CellState, EvidenceMap};
 use robovac::search::WindowSearch;
 
@@ -56,6 +56,52 @@ fn guard_speed_brakes_in_time() {
     assert_eq!(limit_speed(&GUARD, 0, 1000), 0);
     // Never faster than asked, either way.
     assert_eq!(limit_speed(&GUARD, -100, 10_000), -100);
+}
+
+/// The corner the guard must see (every wall contact in the real homes
+/// was one): the robot drives east 161 mm beside the line of a table's
+/// south face, so its body (165 mm) will touch the table's corner. The
+/// hits on the table, judged a noise σ (10 mm) inside the corridor's edge
+/// as the guard judges mapped points, all lie beyond that edge: the
+/// corner goes unseen. The wall points they stand for ([`wall_offset`])
+/// are judged at full width and stop the robot short of the corner.
+#[test]
+fn the_guard_sees_a_corner_through_the_wall_points_of_its_hits() {
+    let map = room();
+    // The table's south-west corner, world mm (cells 50..70 × 40..52).
+    let corner = (2500, 2400);
+    let robot = (2000, corner.1 - 161);
+    // Hits along the west face and the south face, ±8 mm of range noise
+    // along each beam (the LD06's is about ±10 mm).
+    let mut hits = Vec::new();
+    for k in 0..12 {
+        let noise = [-8, -3, 2, 8][k % 4];
+        for q in [
+            (corner.0, corner.1 + 20 + 40 * k as i32),
+            (corner.0 + 20 + 40 * k as i32, corner.1),
+        ] {
+            let (dx, dy) = ((q.0 - robot.0) as f64, (q.1 - robot.1) as f64);
+            let d = dx.hypot(dy);
+            let k = (d + noise as f64) / d;
+            hits.push((robot.0 + (dx * k) as i32, robot.1 + (dy * k) as i32));
+        }
+    }
+    // Robot frame (heading east): x forward, y left.
+    let local = |q: (i32, i32)| (q.0 - robot.0, q.1 - robot.1);
+    let raw = hits.iter().map(|&q| local(q));
+    assert_eq!(free_distance_slack_mm(raw, 167, 10, true), i32::MAX);
+    let walls: Vec<(i32, i32)> = hits
+        .iter()
+        .filter_map(|&q| {
+            let [dx, dy] = wall_offset(&*map, q, robot, 25)?;
+            Some(local((q.0 + dx as i32, q.1 + dy as i32)))
+        })
+        .collect();
+    assert_eq!(walls.len(), hits.len());
+    // The corner itself, 500 mm ahead and 161 mm to the left: the body
+    // touches it after 500 − √(167² − 161²) = 456 mm.
+    assert!(walls.contains(&(500, 161)));
+    assert_eq!(free_distance_mm(walls.into_iter(), 167, true), 456);
 }
 
 /// A 6 m × 5 m evidence map (50 mm cells): walls around, a 1 m × 0.6 m

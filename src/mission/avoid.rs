@@ -5,6 +5,7 @@
 
 use super::config::MAP_POINTS;
 use super::events::EventKind;
+use super::lidar::Hit;
 use super::{Activity, LocalPlanner, MapMode, Mission, Phase, RING};
 use crate::math::cost::dist_mm;
 use crate::nav::apf::{self, ApfResult};
@@ -204,7 +205,7 @@ sized_impl!([] {
         let extra = m.cfg.guard.moving_margin_mm as i64;
         let frame = RobotFrame::of(pose);
         let ring = m.lidar.ring.as_slice();
-        let lidar = ring.iter().map(|&(x, y, mapped)| {
+        let lidar = ring.iter().map(|&Hit { x, y, mapped, .. }| {
             let (rx, ry) = frame.to_robot((x, y));
             if mapped {
                 return (rx, ry);

@@ -21,6 +21,7 @@
 //! in known mode it lives apart from the prior's walls like anything else
 //! the robot learns, so the matcher never aligns to it.
 
+use super::lidar::Hit;
 use super::{EventKind, MapMode, Phase};
 use crate::math::angle::sin_cos_q30;
 use crate::nav::cspace;
@@ -92,7 +93,7 @@ sized_impl!([] {
         let reach = m.cfg.radius_mm as i64 + PERSON_NEAR_MM;
         let map = &*self.p.map;
         let known = m.cfg.mode == MapMode::Known;
-        let off_wall = |&(x, y, mapped): &(i32, i32, bool)| {
+        let off_wall = |&Hit { x, y, mapped, .. }: &Hit| {
             if !known {
                 return !mapped;
             }
@@ -100,7 +101,7 @@ sized_impl!([] {
             !(-1..=1).any(|dy| (-1..=1).any(|dx| map.is_wall(cx + dx, cy + dy, true)))
         };
         let near = m.lidar.ring.as_slice().iter().any(|p| {
-            let (dx, dy) = ((p.0 - pose.x_mm) as i64, (p.1 - pose.y_mm) as i64);
+            let (dx, dy) = ((p.x - pose.x_mm) as i64, (p.y - pose.y_mm) as i64);
             dx * dx + dy * dy < reach * reach && off_wall(p)
         });
         if near {

@@ -3,7 +3,10 @@
 //! the fine map and detoured by A* on it when a wall's end is in the way,
 //! and the fine path fed into the sub-path queue.
 
-use super::{take_box, union_box, CellBox, Fault, Feed, Mission, Phase, QUEUE};
+use super::{
+    take_box, union_box, BoxedWait, CellBox, Fault, Feed, Mission, Phase, BOXED_NODES, BOXED_TRIES,
+    BOXED_WAIT_US, QUEUE,
+};
 use crate::coverage::{CoverageError, Step};
 use crate::grid::Cell;
 use crate::math::cost::dist_mm;
@@ -42,7 +45,7 @@ sized_impl!([] {
         self.trace_lanes(pose);
         self.refresh_coarse();
         self.watch_corridor(now_us, pose);
-        if !self.feed_path() || !self.feed_route() {
+        if self.boxed_waiting(now_us, pose) || !self.feed_path() || !self.feed_route() {
             return;
         }
         self.top_up_cover();
@@ -145,6 +148,7 @@ sized_impl!([] {
         while self.m.queue.len() < 4
             && !self.m.planner_done
             && self.m.feed.is_none()
+            && self.m.boxed_wait.is_none()
             && !self.m.route.active()
         {
             match self.p.planner.step(self.p.coarse, budget) {
@@ -181,6 +185,55 @@ sized_impl!([] {
                 }
             }
         }
+    }
+
+    /// A cleaning detour's search found no way having expanded under
+    /// [`BOXED_NODES`]: the robot is boxed in (a person beside it), not the
+    /// goal out of reach. Instead of skipping the goal (and, the planner
+    /// offering the next one each step, every goal while the person
+    /// stays), the lanes wait [`BOXED_WAIT_US`] and the same goal is
+    /// searched again from where the robot then stands, up to
+    /// [`BOXED_TRIES`] times in a row; then it is skipped as before.
+    /// True when the mission waits.
+    fn boxed_in_detour(&mut self, f: &Feed, expanded: u32) -> bool {
+        let m = &mut *self.m;
+        if m.phase != Phase::Cover || !f.cover || expanded >= BOXED_NODES {
+            return false;
+        }
+        if m.boxed_tries >= BOXED_TRIES {
+            m.boxed_tries = 0;
+            return false;
+        }
+        m.boxed_tries += 1;
+        m.boxed_wait = Some(BoxedWait {
+            to: f.then.unwrap_or(f.from),
+            until_us: 0,
+        });
+        true
+    }
+
+    /// The lanes wait out a boxed-in detour ([`Self::boxed_in_detour`]);
+    /// when the wait is over, the goal is searched for again from the
+    /// queue's end (or the robot). True while waiting.
+    fn boxed_waiting(&mut self, now_us: u64, pose: &Pose) -> bool {
+        let m = &mut *self.m;
+        let Some(w) = m.boxed_wait else {
+            return false;
+        };
+        if w.until_us == 0 {
+            m.boxed_wait = Some(BoxedWait {
+                until_us: now_us + BOXED_WAIT_US,
+                ..w
+            });
+            return true;
+        }
+        if now_us < w.until_us {
+            return true;
+        }
+        m.boxed_wait = None;
+        let from = m.queue.last_end().unwrap_or((pose.x_mm, pose.y_mm));
+        self.detour(from, w.to, true);
+        true
     }
 
     /// Queues a straight move to `to`, or a detour on the fine map when the
@@ -251,10 +304,19 @@ sized_impl!([] {
         if f.searching {
             let state = self.p.planner.search_state_mut();
             let search = &mut *self.p.search;
-            match search.resume(state, self.m.cfg.node_budget) {
+            let progress = search.resume(state, self.m.cfg.node_budget);
+            let expanded = state.nodes_expanded();
+            if progress == Err(SearchError::NoPath) && self.boxed_in_detour(&f, expanded) {
+                self.m.feed = None;
+                return true;
+            }
+            let state = self.p.planner.search_state_mut();
+            let search = &mut *self.p.search;
+            match progress {
                 Ok(Progress::Pending { .. }) => return false,
                 Ok(Progress::Found(_)) => match search.write_path(state, self.p.path) {
                     Ok(n) => {
+                        self.m.boxed_tries = 0;
                         let r = self.m.cfg.sweep_mm();
                         f.len =
                             prune_clear(self.p.map, self.p.path.get_mut(..n).unwrap_or(&mut []), r);

@@ -30,7 +30,7 @@ impl Mission {
             .ring
             .as_slice()
             .iter()
-            .copied()
+            .map(|h| (h.x, h.y, h.mapped))
             .filter(move |&(x, y, _)| {
                 let (dx, dy) = ((x - pose.x_mm) as i64, (y - pose.y_mm) as i64);
                 dx * dx + dy * dy < r_mm * r_mm

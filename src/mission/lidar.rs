@@ -6,13 +6,45 @@
 
 use super::{MapMode, Mission, Phase};
 use crate::localize::ScanMatcher;
-use crate::nav::geometry::explained;
+use crate::nav::geometry::{explained, wall_offset};
 use crate::robot::beam::{beams, Beam};
 use crate::robot::lidar::LidarProtocol;
 use crate::robot::lidar_map::EvidenceMap;
 
-/// A lidar hit: world mm, and whether the map explains it.
-pub(super) type Hit = (i32, i32, bool);
+/// A lidar hit: world mm, whether the map explains it, and for a mapped
+/// hit the wall surface it stands for ([`wall_offset`]: an offset, so the
+/// hit keeps its 12 bytes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) struct Hit {
+    pub x: i32,
+    pub y: i32,
+    pub mapped: bool,
+    pub wall: Option<[i8; 2]>,
+}
+
+// The ring's memory is the firmware's (issue 11 §3): the wall offset
+// lives in what was padding.
+const _: () = assert!(core::mem::size_of::<Hit>() == 12);
+
+impl Hit {
+    const NONE: Self = Self {
+        x: 0,
+        y: 0,
+        mapped: false,
+        wall: None,
+    };
+
+    /// The hit's position, world mm.
+    pub(super) fn at(&self) -> (i32, i32) {
+        (self.x, self.y)
+    }
+
+    /// The wall surface point it stands for, world mm, if the map has one.
+    pub(super) fn wall_point(&self) -> Option<(i32, i32)> {
+        self.wall
+            .map(|[dx, dy]| (self.x + dx as i32, self.y + dy as i32))
+    }
+}
 
 /// The last `N` hits; a new one overwrites the oldest. Its slice is in
 /// storage order, as `heapless::HistoryBuf::as_slice` (which it replaces:
@@ -27,7 +59,7 @@ pub(super) struct HitRing<const N: usize> {
 impl<const N: usize> HitRing<N> {
     pub(super) const fn new() -> Self {
         Self {
-            buf: [(0, 0, false); N],
+            buf: [Hit::NONE; N],
             len: 0,
             next: 0,
         }
@@ -70,6 +102,10 @@ impl Mission {
                 // and go no further.
                 continue;
             }
+            // A hit stands for a wall point within 2.5 σ of the range
+            // noise (the guard's slack is 1 σ); with an ideal sensor, only
+            // a hit on the wall's square does ([`wall_offset`]).
+            let tol_mm = self.cfg.guard.mapped_slack_mm.max(0) * 5 / 2;
             let ring = &mut self.lidar.ring;
             let known = &*map;
             beams(
@@ -81,7 +117,17 @@ impl Mission {
                      end: (hx, hy), hit, ..
                  }| {
                     if hit {
-                        ring.write((hx, hy, explained(known, (hx, hy))));
+                        let q = (hx, hy);
+                        let mapped = explained(known, q);
+                        let from = (pose.x_mm, pose.y_mm);
+                        ring.write(Hit {
+                            x: hx,
+                            y: hy,
+                            mapped,
+                            wall: mapped
+                                .then(|| wall_offset(known, q, from, tol_mm))
+                                .flatten(),
+                        });
                     }
                 },
             );
@@ -103,7 +149,7 @@ impl Mission {
 
     /// The latest lidar hits, world mm.
     pub(super) fn points(&self) -> impl Iterator<Item = (i32, i32)> + '_ {
-        self.lidar.ring.as_slice().iter().map(|&(x, y, _)| (x, y))
+        self.lidar.ring.as_slice().iter().map(Hit::at)
     }
 
     /// The latest lidar hits the map explains (walls, furniture) or not
@@ -113,7 +159,7 @@ impl Mission {
             .ring
             .as_slice()
             .iter()
-            .filter(move |p| p.2 == mapped)
-            .map(|&(x, y, _)| (x, y))
+            .filter(move |p| p.mapped == mapped)
+            .map(Hit::at)
     }
 }

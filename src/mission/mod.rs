@@ -133,8 +133,8 @@ pub mod parts;
 pub mod reflex;
 
 pub use config::{
-    Counters, Fault, LocalPlanner, MapMode, MissionConfig, MotorCmd, State, HOME_TRIES,
-    MAX_RETRIES, QUEUE, RING, SCAN_FRAMES, SKIPPED_GOALS,
+    Counters, Fault, LocalPlanner, MapMode, MissionConfig, MotorCmd, State, BOXED_NODES,
+    BOXED_TRIES, BOXED_WAIT_US, HOME_TRIES, MAX_RETRIES, QUEUE, RING, SCAN_FRAMES, SKIPPED_GOALS,
 };
 pub use events::{Capacity, Event, EventKind, EVENTS};
 pub use handoff::HANDOFF;
@@ -171,6 +171,16 @@ struct Feed {
     /// whole map in blocks instead ([`route`]; not for a route's own legs).
     from: (i32, i32),
     routable: bool,
+}
+
+/// A cleaning detour whose search found the robot boxed in (see
+/// `Mission::boxed_in_detour`): its goal, searched for again from where
+/// the robot then stands once `until_us` has passed (0: the wait starts
+/// at the next cover step, which knows the time).
+#[derive(Clone, Copy, Debug)]
+struct BoxedWait {
+    to: (i32, i32),
+    until_us: u64,
 }
 
 /// The control path's own state: wheels, encoders and their timing.
@@ -258,6 +268,11 @@ pub struct Mission {
     abandon_rounds: u8,
     /// Planning cells of cleaning goals the fine search found no way to.
     skipped_goals: heapless::Vec<crate::grid::Cell, SKIPPED_GOALS>,
+    /// A cleaning detour that found the robot boxed in, to search again
+    /// once the wait is over ([`BoxedWait`]), and how many such waits in a
+    /// row.
+    boxed_wait: Option<BoxedWait>,
+    boxed_tries: u8,
     /// The goals given up were tried once more after the edge pass.
     late_retry: bool,
     /// The cells taken as covered and never driven were handed back once,
@@ -357,6 +372,8 @@ impl Mission {
             edge_reopens: 0,
             abandon_rounds: 0,
             skipped_goals: heapless::Vec::new(),
+            boxed_wait: None,
+            boxed_tries: 0,
             late_retry: false,
             undriven_retry: false,
             home_tries: 0,

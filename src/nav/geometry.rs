@@ -106,6 +106,61 @@ pub fn explained<const EV: usize>(map: &EvidenceMap<EV>, q: (i32, i32)) -> bool 
         || (-2..=2).any(|dy| (-2..=2).any(|dx| map.state(cx + dx, cy + dy) == CellState::Occupied))
 }
 
+/// The wall surface a mapped lidar point stands for, as an offset from
+/// the point (mm): of the occupied cells within one cell of `q`, the one
+/// nearest `q`, and of that cell's square the point nearest `from` (the
+/// robot). `None` when no occupied cell's square lies within `tol_mm` of
+/// `q` (the caller's 2.5 σ of the range noise: 25 mm for the LD06's
+/// 10 mm): a hit farther in front of the wall is something else (a
+/// person, a chair the map lacks, a person standing on their own stale
+/// marks) and stands for itself.
+///
+/// Why: the guard judged mapped points a noise σ inside its corridor's
+/// edge ([`crate::nav::guard::GuardParams::mapped_slack_mm`]), or every
+/// wall passed 10 mm away would stop the robot; but then a convex corner
+/// (a door jamb) 2 to 10 mm from the body's path was not seen either,
+/// and every wall contact in the real-home missions was such a corner;
+/// and along a wall the plan passes 10 mm from the body, the 2 σ
+/// outliers of hundreds of hits still stopped the robot every few
+/// centimetres. Every point of an occupied cell's square is wall,
+/// exactly, when the pose is right; the one nearest the robot is the
+/// most cautious choice, and it carries no range noise, so the guard
+/// judges it at full width instead of the hit.
+/// Within one cell the offset fits an `i8` on each axis (≤ 2 cells).
+pub fn wall_offset<const EV: usize>(
+    map: &EvidenceMap<EV>,
+    q: (i32, i32),
+    from: (i32, i32),
+    tol_mm: i32,
+) -> Option<[i8; 2]> {
+    let r = map.res_mm().max(1) as i64;
+    let h = map.height() as i64;
+    let (cx, cy) = map.cell_of(q.0, q.1);
+    let mut best: Option<(i64, (i64, i64))> = None;
+    for dy in -1..=1 {
+        for dx in -1..=1 {
+            let (x, y) = (cx + dx, cy + dy);
+            if map.state(x, y) != CellState::Occupied {
+                continue;
+            }
+            // The square [x0, x0 + r] × [y0, y0 + r], world mm.
+            let (x0, y0) = (x as i64 * r, (h - 1 - y as i64) * r);
+            // `max`/`min`, not `clamp`: clamp asserts its bounds' order,
+            // a panicking branch in the firmware (issue 11 §6).
+            let near = |p: (i64, i64)| (p.0.max(x0).min(x0 + r), p.1.max(y0).min(y0 + r));
+            let at = near((q.0 as i64, q.1 as i64));
+            let d2 = (at.0 - q.0 as i64).pow(2) + (at.1 - q.1 as i64).pow(2);
+            if best.is_none_or(|b| d2 < b.0) {
+                best = Some((d2, near((from.0 as i64, from.1 as i64))));
+            }
+        }
+    }
+    let tol = tol_mm.max(0) as i64;
+    let (_, w) = best.filter(|b| b.0 <= tol * tol)?;
+    let off = |a: i64, b: i32| i8::try_from(a - b as i64).ok();
+    Some([off(w.0, q.0)?, off(w.1, q.1)?])
+}
+
 /// True when a disc of `radius_mm` slides from `a` to `b` (world mm)
 /// without overlapping an occupied evidence cell (unknown counts as free),
 /// checked every quarter cell.

@@ -33,6 +33,10 @@ pub struct GuardParams {
     /// (walls), mm: their range noise, when the pose is corrected against
     /// that map. A wall the plan passes 10 mm away returns points up to
     /// 2 σ nearer; without the slack they stopped every move along a wall.
+    /// A point on a wall cell of the map is judged instead by the wall
+    /// surface it stands for (`mission::lidar::Hit`'s wall point, which
+    /// has no range noise) at full width, so a corner inside the slack
+    /// still stops the robot; the slack serves the other mapped points.
     pub mapped_slack_mm: i32,
 }
 
