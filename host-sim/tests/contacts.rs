@@ -4,7 +4,7 @@
 
 mod truth;
 
-use host_sim::run::mission::{run_mission, MissionOptions};
+use host_sim::run::mission::{run_mission, MissionOptions, MissionReport};
 use host_sim::run::suite::suite_map;
 use host_sim::sim::robot::Noise;
 use robovac::mission::MapMode;
@@ -49,12 +49,7 @@ fn marks_that_box_the_robot_in_are_forgotten() {
 /// walk): the bound is set well above the 8.4 % of the failure.
 #[test]
 fn a_person_pushing_past_the_robot_is_not_marked_as_a_wall() {
-    let mut map = suite_map("S6").unwrap();
-    host_sim::sim::zones::drop_map_zones(&mut map);
-    let mut o = MissionOptions::new(map, MapMode::Known, 1, Noise::Realistic, 2);
-    o.max_time_s = 600.0;
-    let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
-    check_truth(&o, &rep, &t);
+    let rep = known_mission("S6", 1, 2, 600.0);
     assert!(rep.counters.bumps > 0, "{:?}", rep.counters);
     assert_eq!(rep.counters.bump_marks, 0, "{:?}", rep.counters);
     assert!(!rep.final_state.starts_with("Failed"), "{rep:?}");
@@ -71,12 +66,7 @@ fn a_person_pushing_past_the_robot_is_not_marked_as_a_wall() {
 /// on its lanes, and the whole mission covers 99.0 %.
 #[test]
 fn a_person_boxing_the_robot_in_is_waited_for() {
-    let mut map = suite_map("l10su").unwrap();
-    host_sim::sim::zones::drop_map_zones(&mut map);
-    let mut o = MissionOptions::new(map, MapMode::Known, 1, Noise::Realistic, 3);
-    o.max_time_s = 420.0;
-    let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
-    check_truth(&o, &rep, &t);
+    let rep = known_mission("l10su", 1, 3, 420.0);
     assert!(
         !rep.state_time_s.contains_key("Edge"),
         "{:?}",
@@ -84,4 +74,16 @@ fn a_person_boxing_the_robot_in_is_waited_for() {
     );
     assert!(rep.counters.skipped < 60, "{:?}", rep.counters);
     assert_eq!(rep.counters.abandoned_retries, 0, "{:?}", rep.counters);
+}
+
+/// A suite map's mission in known mode under realistic noise, without the
+/// map's own no-go zones, until `max_time_s`; checked on the truth.
+fn known_mission(name: &str, people: usize, seed: u64, max_time_s: f64) -> MissionReport {
+    let mut map = suite_map(name).unwrap();
+    host_sim::sim::zones::drop_map_zones(&mut map);
+    let mut o = MissionOptions::new(map, MapMode::Known, people, Noise::Realistic, seed);
+    o.max_time_s = max_time_s;
+    let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
+    check_truth(&o, &rep, &t);
+    rep
 }

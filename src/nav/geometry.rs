@@ -134,7 +134,6 @@ pub fn wall_offset<const EV: usize>(
     tol_mm: i32,
 ) -> Option<[i8; 2]> {
     let r = map.res_mm().max(1) as i64;
-    let h = map.height() as i64;
     let (cx, cy) = map.cell_of(q.0, q.1);
     let mut best: Option<(i64, (i64, i64))> = None;
     for dy in -1..=1 {
@@ -144,7 +143,8 @@ pub fn wall_offset<const EV: usize>(
                 continue;
             }
             // The square [x0, x0 + r] × [y0, y0 + r], world mm.
-            let (x0, y0) = (x as i64 * r, (h - 1 - y as i64) * r);
+            let (mx, my) = cspace::fine_centre_mm(map, x, y);
+            let (x0, y0) = (mx as i64 - r / 2, my as i64 - r / 2);
             // `max`/`min`, not `clamp`: clamp asserts its bounds' order,
             // a panicking branch in the firmware (issue 11 §6).
             let near = |p: (i64, i64)| (p.0.max(x0).min(x0 + r), p.1.max(y0).min(y0 + r));
