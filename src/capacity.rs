@@ -252,7 +252,8 @@ const _: () = assert!(FW_EXECUTIVE_BYTES <= 20_640);
 /// the walls the control loop keeps off ([`crate::nav::keep_off`]) and
 /// the time a person was last beside the body 72; the cleaning goals the
 /// fine search found no way to ([`crate::mission::SKIPPED_GOALS`]) 72;
-/// a boxed-in detour's wait ([`crate::mission::BOXED_NODES`]) 32.
+/// a boxed-in search's wait ([`crate::mission::BOXED_NODES`] and
+/// [`crate::mission::BOXED_PLAN_NODES`]) 32.
 /// The stack left is measured by the size report and the
 /// processor-in-the-loop run (its high-water mark). This bound is
 /// asserted so that nothing grows unnoticed.

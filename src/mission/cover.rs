@@ -4,8 +4,8 @@
 //! and the fine path fed into the sub-path queue.
 
 use super::{
-    take_box, union_box, BoxedWait, CellBox, Fault, Feed, Mission, Phase, BOXED_NODES, BOXED_TRIES,
-    BOXED_WAIT_US, QUEUE,
+    take_box, union_box, BoxedSearch, BoxedWait, CellBox, Fault, Feed, Mission, Phase, BOXED_NODES,
+    BOXED_PLAN_NODES, BOXED_TRIES, BOXED_WAIT_US, QUEUE,
 };
 use crate::coverage::{CoverageError, Step};
 use crate::grid::Cell;
@@ -45,7 +45,13 @@ sized_impl!([] {
         self.trace_lanes(pose);
         self.refresh_coarse();
         self.watch_corridor(now_us, pose);
-        if self.boxed_waiting(now_us, pose) || !self.feed_path() || !self.feed_route() {
+        // A detour's wait holds the feeding; the planner's, only the
+        // planner (the path being fed, if any, is driven first).
+        if self.boxed_waiting(now_us, pose, false)
+            || !self.feed_path()
+            || !self.feed_route()
+            || self.boxed_waiting(now_us, pose, true)
+        {
             return;
         }
         self.top_up_cover();
@@ -159,6 +165,9 @@ sized_impl!([] {
                 }
                 Ok(Step::Pending) => break,
                 Ok(Step::Done) => {
+                    if self.boxed_in_planner() {
+                        break;
+                    }
                     // Goals given up while the map was different (a person
                     // in a doorway) get up to two more chances.
                     let at = self.p.planner.position();
@@ -191,49 +200,79 @@ sized_impl!([] {
     /// [`BOXED_NODES`]: the robot is boxed in (a person beside it), not the
     /// goal out of reach. Instead of skipping the goal (and, the planner
     /// offering the next one each step, every goal while the person
-    /// stays), the lanes wait [`BOXED_WAIT_US`] and the same goal is
-    /// searched again from where the robot then stands, up to
-    /// [`BOXED_TRIES`] times in a row; then it is skipped as before.
-    /// True when the mission waits.
+    /// stays), the lanes wait and the same goal is searched again
+    /// ([`Self::boxed_in`]); then it is skipped as before. True when the
+    /// mission waits.
     fn boxed_in_detour(&mut self, f: &Feed, expanded: u32) -> bool {
-        let m = &mut *self.m;
-        if m.phase != Phase::Cover || !f.cover || expanded >= BOXED_NODES {
+        if self.m.phase != Phase::Cover || !f.cover || expanded >= BOXED_NODES {
             return false;
         }
+        self.boxed_in(BoxedSearch::Detour(f.then.unwrap_or(f.from)))
+    }
+
+    /// The coverage planner finished because its last search gave goals
+    /// up having expanded under [`BOXED_PLAN_NODES`] planning cells: the
+    /// robot is boxed in, and the goals are taken up again after a wait
+    /// ([`Self::boxed_in`]) rather than by spending the planner's rounds of
+    /// second chances at once. True when the mission waits.
+    fn boxed_in_planner(&mut self) -> bool {
+        let expanded = self.p.planner.search_state_mut().nodes_expanded();
+        let abandoned = self.p.planner.stats().abandoned_goals;
+        let fresh = abandoned > self.m.plan_abandoned_seen;
+        self.m.plan_abandoned_seen = abandoned;
+        fresh && expanded < BOXED_PLAN_NODES && self.boxed_in(BoxedSearch::Planner)
+    }
+
+    /// The robot is boxed in: wait [`BOXED_WAIT_US`], then run `again`
+    /// from where the robot then stands, up to [`BOXED_TRIES`] times
+    /// before a detour finds its way. False (and the count starts again)
+    /// once they are spent. The wait's clock starts at the next cover
+    /// step ([`BoxedWait`]).
+    fn boxed_in(&mut self, again: BoxedSearch) -> bool {
+        let m = &mut *self.m;
         if m.boxed_tries >= BOXED_TRIES {
             m.boxed_tries = 0;
             return false;
         }
         m.boxed_tries += 1;
         m.boxed_wait = Some(BoxedWait {
-            to: f.then.unwrap_or(f.from),
-            until_us: 0,
+            again,
+            until_us: None,
         });
         true
     }
 
-    /// The lanes wait out a boxed-in detour ([`Self::boxed_in_detour`]);
-    /// when the wait is over, the goal is searched for again from the
-    /// queue's end (or the robot). True while waiting.
-    fn boxed_waiting(&mut self, now_us: u64, pose: &Pose) -> bool {
+    /// The lanes wait out a boxed-in search ([`Self::boxed_in`]) of the
+    /// planner (`planner`) or of a detour; when the wait is over, the
+    /// detour is searched for again from the queue's end (or the robot),
+    /// or the planner takes its given-up goals up again from its cell.
+    /// True while waiting.
+    fn boxed_waiting(&mut self, now_us: u64, pose: &Pose, planner: bool) -> bool {
         let m = &mut *self.m;
-        let Some(w) = m.boxed_wait else {
+        let Some(mut w) = m.boxed_wait else {
             return false;
         };
-        if w.until_us == 0 {
-            m.boxed_wait = Some(BoxedWait {
-                until_us: now_us + BOXED_WAIT_US,
-                ..w
-            });
-            return true;
+        if matches!(w.again, BoxedSearch::Planner) != planner {
+            return false;
         }
-        if now_us < w.until_us {
+        let until_us = *w.until_us.get_or_insert(now_us + BOXED_WAIT_US);
+        if now_us < until_us {
+            m.boxed_wait = Some(w);
             return true;
         }
         m.boxed_wait = None;
-        let from = m.queue.last_end().unwrap_or((pose.x_mm, pose.y_mm));
-        self.detour(from, w.to, true);
-        true
+        match w.again {
+            BoxedSearch::Detour(to) => {
+                let from = m.queue.last_end().unwrap_or((pose.x_mm, pose.y_mm));
+                self.detour(from, to, true);
+                true
+            }
+            BoxedSearch::Planner => {
+                let at = self.p.planner.position();
+                self.p.planner.retry_abandoned(at);
+                false
+            }
+        }
     }
 
     /// Queues a straight move to `to`, or a detour on the fine map when the
@@ -310,11 +349,13 @@ sized_impl!([] {
                 self.m.feed = None;
                 return true;
             }
-            let state = self.p.planner.search_state_mut();
-            let search = &mut *self.p.search;
             match progress {
                 Ok(Progress::Pending { .. }) => return false,
-                Ok(Progress::Found(_)) => match search.write_path(state, self.p.path) {
+                Ok(Progress::Found(_)) => match self
+                    .p
+                    .search
+                    .write_path(self.p.planner.search_state_mut(), self.p.path)
+                {
                     Ok(n) => {
                         self.m.boxed_tries = 0;
                         let r = self.m.cfg.sweep_mm();

@@ -56,6 +56,19 @@ pub fn debug_collision(sim: &Sim, mission: &Mission, parts: &dyn MissionParts) {
                 .collect();
             eprintln!("   ev {}", row.join(""));
         }
+        let (c0, r0) = sim.world.cell_of(x, y);
+        for r in r0 - 6..=r0 + 6 {
+            let row: String = (c0 - 6..=c0 + 6)
+                .map(
+                    |c| match (sim.world.map.is_blocked(c, r), (c, r) == (c0, r0)) {
+                        (_, true) => 'R',
+                        (true, _) => '#',
+                        _ => '.',
+                    },
+                )
+                .collect();
+            eprintln!("   tw {row}");
+        }
     }
 }
 
