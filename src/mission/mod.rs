@@ -174,33 +174,6 @@ struct Feed {
     routable: bool,
 }
 
-/// A search that found the robot boxed in (see `Mission::boxed_in`):
-/// what is searched for again, from where the robot then stands, once
-/// `until_us` has passed.
-///
-/// `until_us` is `None` until the next cover step starts the wait's clock.
-/// Starting it when the search fails, 0.1 s sooner (with the planner's
-/// wait checked before the path being fed), was measured on 108
-/// real-home missions: it shifts every later wait, and 8 missions came
-/// out differently, two much worse (S6 unknown, seed 2: 97.4 to 87.0 %;
-/// z10 unknown, seed 8: `NoWayHome`). The missions are that sensitive to
-/// timing; the timing measured over all suites is kept.
-#[derive(Clone, Copy, Debug)]
-struct BoxedWait {
-    again: BoxedSearch,
-    until_us: Option<u64>,
-}
-
-/// The search a boxed-in wait repeats.
-#[derive(Clone, Copy, Debug)]
-enum BoxedSearch {
-    /// A cleaning detour to this point (fine cells).
-    Detour((i32, i32)),
-    /// The coverage planner's search for its next goal (planning cells):
-    /// the goals it gave up meanwhile are taken up again.
-    Planner,
-}
-
 /// The control path's own state: wheels, encoders and their timing.
 struct Drive {
     odom: Odometry,
@@ -289,7 +262,7 @@ pub struct Mission {
     /// A search that found the robot boxed in, to run again once the wait
     /// is over ([`BoxedWait`]), and how many such waits since a detour last
     /// found its way.
-    boxed_wait: Option<BoxedWait>,
+    boxed_wait: Option<cover::BoxedWait>,
     boxed_tries: u8,
     /// The planner's abandoned-goal count when last seen (a rise means
     /// its last search gave goals up).
