@@ -169,6 +169,8 @@ mod app {
         search: FwWindow = FwWindow::new(),
         coarse: FwPlanGrid = FwPlanGrid::new(),
         fine: FwFineGrid = FwFineGrid::new(),
+        // The CCM's at 16 x 16 m (`ccm`).
+        #[cfg_attr(feature = "home16", link_section = ".ccmram.map")]
         map: FwEvidence = FwEvidence::new(),
         path: [Cell; FW_FINE_PATH] = [Cell::new(0, 0); FW_FINE_PATH],
         matcher: FwMatcher = FwMatcher::new(),

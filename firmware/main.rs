@@ -13,6 +13,8 @@
 
 #[cfg(target_os = "none")]
 mod board;
+#[cfg(all(target_os = "none", feature = "home16"))]
+mod ccm;
 #[cfg(target_os = "none")]
 mod log;
 #[cfg(all(target_os = "none", feature = "pil"))]
@@ -64,6 +66,12 @@ mod pil_entry {
         LidarMount::ld06_centred(true),
     );
 
+    /// The evidence map: outside the entry point's statics, which
+    /// cortex-m-rt turns into arguments (where `link_section` is not
+    /// allowed); in the CCM at 16 x 16 m (`ccm`).
+    #[cfg_attr(feature = "home16", link_section = ".ccmram.map")]
+    static mut MAP: FwEvidence = FwEvidence::new();
+
     #[entry]
     fn main() -> ! {
         static mut MISSION: Mission = Mission::new(PLACEHOLDER);
@@ -71,7 +79,6 @@ mod pil_entry {
         static mut SEARCH: FwWindow = FwWindow::new();
         static mut COARSE: FwPlanGrid = FwPlanGrid::new();
         static mut FINE: FwFineGrid = FwFineGrid::new();
-        static mut MAP: FwEvidence = FwEvidence::new();
         static mut PATH: [Cell; FW_FINE_PATH] = [Cell::new(0, 0); FW_FINE_PATH];
         static mut MATCHER: FwMatcher = FwMatcher::new();
         static mut ROOMS: [u8; FW_PLAN_CELLS] = [0; FW_PLAN_CELLS];
@@ -97,7 +104,9 @@ mod pil_entry {
             search: SEARCH,
             coarse: COARSE,
             fine: FINE,
-            map: MAP,
+            // SAFETY: the entry point runs once and never returns, and
+            // nothing else names MAP: this is its only reference.
+            map: unsafe { &mut *core::ptr::addr_of_mut!(MAP) },
             path: PATH,
             matcher: MATCHER,
             rooms: ROOMS,

@@ -5,8 +5,10 @@
 //! pointer is filled with a pattern at boot; the lowest word that no
 //! longer holds it is as deep as the stack has been.
 //!
-//! **Guard.** The stack grows down toward the statics (`__sheap`,
-//! cortex-m-rt's heap start: this firmware has no heap). An overflow would
+//! **Guard.** The stack grows down toward the statics (`_stack_end`: on
+//! the F411 cortex-m-rt's end of the statics, `__sheap`; at 16 × 16 m the
+//! end of the CCM's statics, the stack being in the CCM above them:
+//! `memory-f407.x`). An overflow would
 //! silently overwrite them (it did: the sim-link image's receive queue, in
 //! the studio at 261 s). [`guard`] makes the [`GUARD`] bytes below the
 //! stack a no-access MPU region, so an overflow faults at once instead
@@ -22,7 +24,7 @@ const PAINT: u32 = 0xC0FF_EE11;
 const MARGIN: usize = 256;
 
 extern "C" {
-    static mut __sheap: u32;
+    static mut _stack_end: u32;
     static _stack_start: u32;
 }
 
@@ -36,7 +38,7 @@ const _: () = assert!(1 << (GUARD_SIZE_FIELD + 1) == GUARD);
 /// Where the guard starts: the end of the statics, rounded up.
 fn guard_base() -> usize {
     // Only the symbol's address is taken.
-    (core::ptr::addr_of_mut!(__sheap) as usize).next_multiple_of(GUARD)
+    (core::ptr::addr_of_mut!(_stack_end) as usize).next_multiple_of(GUARD)
 }
 
 /// The lowest byte of stack (just above the guard).

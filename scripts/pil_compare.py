@@ -6,6 +6,8 @@ covers the same floor within 1 point, collides no more than the host,
 and, for a whole mission, docks as the host does.
 
 Usage: pil_compare.py HOST_SIM ELF [host-sim mission options...]
+(PIL_CAPACITY=fw16 for an image of the 16 x 16 m capacity: both runs then
+ take that capacity's buffers; default fw)
 (build the image first: scripts/pil.sh does, or
  CARGO_TARGET_DIR=target/pil cargo build --release \
    --target thumbv7em-none-eabihf --bin robovac --features pil)
@@ -26,15 +28,16 @@ def run(cmd):
 
 def main():
     if len(sys.argv) < 3:
-        print(__doc__.strip().splitlines()[-4], file=sys.stderr)
+        print(next(l for l in __doc__.splitlines() if l.startswith('Usage')), file=sys.stderr)
         return 2
     host_sim, elf, args = sys.argv[1], sys.argv[2], sys.argv[3:]
     # PIL_LOG=FILE keeps the firmware's raw defmt log (defmt-print -e ELF < FILE).
     log = ["--pil-log", os.environ["PIL_LOG"]] if os.environ.get("PIL_LOG") else []
+    cap = ["--capacity", os.environ.get("PIL_CAPACITY", "fw")]
     out = {}
     with tempfile.TemporaryDirectory() as d:
-        for name, extra in (("host", ["--capacity", "fw", "--firmware-order"]),
-                            ("firmware", ["--pil", "--pil-elf", elf] + log)):
+        for name, extra in (("host", cap + ["--firmware-order"]),
+                            ("firmware", cap + ["--pil", "--pil-elf", elf] + log)):
             path = f"{d}/{name}.json"
             wall = run([host_sim, "mission", *args, *extra, "--json", path])
             out[name] = json.load(open(path))

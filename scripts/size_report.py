@@ -2,31 +2,48 @@
 """Flash and static-RAM report for a firmware ELF (no binutils needed).
 
 Flash = the allocated sections stored in flash (vector table, text, rodata,
-and the initial values of .data); static RAM = .data + .bss + .uninit. The
-stack grows down from the top of RAM into what is left.
+and the initial values of .data and .ccmram); static RAM = .data + .bss +
+.uninit in SRAM, and .ccmram in the core-coupled RAM (the F405/F407's
+16 x 16 m layout, memory-f407.x). The stack is what the linker script
+leaves it, from `_stack_end` up to `_stack_start` (read from the symbol
+table): the top of SRAM on the F411, the top of the CCM at 16 x 16 m.
 Usage: size_report.py ELF [RAM_BYTES]"""
 import struct, sys
 
 path = sys.argv[1]
 ram_total = int(sys.argv[2]) if len(sys.argv) > 2 else 128 * 1024
+CCM_BYTES = 64 * 1024
 f = open(path, 'rb').read()
 if f[:4] != b'\x7fELF' or f[4] != 1:
     sys.exit(f"{path}: not a 32-bit ELF")
 shoff = struct.unpack_from('<I', f, 0x20)[0]
 shentsize, shnum, shstrndx = struct.unpack_from('<HHH', f, 0x2E)
 secs = [struct.unpack_from('<IIIIIIIIII', f, shoff + i * shentsize) for i in range(shnum)]
+def cstr(off):
+    return f[off:f.index(b'\0', off)].decode()
 stroff = secs[shstrndx][4]
-def name(o):
-    return f[stroff + o:f.index(b'\0', stroff + o)].decode()
-flash = ram = 0
+def symbols():
+    """Name -> value of the ELF's symbols."""
+    out = {}
+    for s in secs:
+        if s[1] != 2:                  # SHT_SYMTAB
+            continue
+        strtab = secs[s[6]][4]
+        for i in range(s[5] // 16):
+            st_name, st_value = struct.unpack_from('<II', f, s[4] + i * 16)
+            out[cstr(strtab + st_name)] = st_value
+    return out
+flash = ram = ccm = 0
 rows = []
 for s in secs:
-    n, typ, flags, addr, size = name(s[0]), s[1], s[2], s[3], s[5]
+    n, typ, flags, addr, size = cstr(stroff + s[0]), s[1], s[2], s[3], s[5]
     if not flags & 2 or size == 0:   # SHF_ALLOC
         continue
-    in_ram = addr >= 0x20000000
     nobits = typ == 8                  # SHT_NOBITS (.bss, .uninit)
-    if in_ram:
+    if n == '.ccmram':
+        ccm += size
+        flash += size                  # initial values copied at reset
+    elif addr >= 0x20000000:
         ram += size
         if not nobits:
             flash += size              # .data initial values live in flash
@@ -36,4 +53,10 @@ for s in secs:
 for n, addr, size in rows:
     print(f"  {n:<16} 0x{addr:08x} {size:>8} bytes")
 print(f"flash: {flash} bytes ({flash / 1024:.1f} KiB)")
-print(f"static RAM: {ram} bytes ({ram / 1024:.1f} KiB of {ram_total // 1024} KiB; {ram_total - ram} bytes left for the stack)")
+print(f"static RAM: {ram} bytes ({ram / 1024:.1f} KiB of {ram_total // 1024} KiB SRAM; {ram_total - ram} bytes left)")
+if ccm:
+    print(f"CCM: {ccm} bytes ({ccm / 1024:.1f} KiB of {CCM_BYTES // 1024} KiB; {CCM_BYTES - ccm} bytes left)")
+sym = symbols()
+if '_stack_start' in sym and '_stack_end' in sym:
+    where = 'CCM' if ccm else 'SRAM'
+    print(f"stack: {sym['_stack_start'] - sym['_stack_end']} bytes (top of {where})")

@@ -194,8 +194,8 @@ fn options(a: &Args) -> Result<MissionOptions, String> {
         let names = host_sim::run::plan::planner_names();
         format!("unknown planner {:?} ({names})", a.planner)
     })?;
-    if matches!(a.capacity, host_sim::run::parts::Capacity::Fw) && kind.rules().local.needs_field()
-    {
+    use host_sim::run::parts::Capacity;
+    if matches!(a.capacity, Capacity::Fw | Capacity::Fw16) && kind.rules().local.needs_field() {
         return Err(format!(
             "planner {} keeps 2 bytes per planning cell, which the firmware's capacity leaves out (use another planner, or the host's capacity)",
             kind.name()

@@ -26,7 +26,7 @@ use super::dock::{given_dock, place_dock};
 use super::mission_map::prepare_map;
 pub use super::mission_map::{MapStore, ZoneFigures, ZONE_MARGIN_M};
 pub use super::parts::Capacity;
-use super::parts::{FwHostParts, HostParts};
+use super::parts::{Fw16HostParts, FwHostParts, HostParts};
 
 /// Evidence (and fine planning) cell side, mm.
 pub const EVIDENCE_MM: u32 = 50;
@@ -311,18 +311,25 @@ pub fn run_mission(
                     .into(),
             );
         }
-        let mut fp = FwHostParts::new(opts.kind);
-        fill_prior(&mut fp.map, &sim.world, EVIDENCE_MM, known)?;
         let cfg = mission_config(opts, &sim.cfg.clone(), r);
-        let mut exec = super::pil::Pil::start(&pil.elf, pil.log.as_deref(), cfg, &fp.map)?;
-        drop(fp);
+        // The prior in the image's capacity (`--capacity fw16` for an
+        // image built with `home16`).
+        let mut exec = if opts.capacity == Capacity::Fw16 {
+            let mut fp = Fw16HostParts::new(opts.kind);
+            fill_prior(&mut fp.map, &sim.world, EVIDENCE_MM, known)?;
+            super::pil::Pil::start(&pil.elf, pil.log.as_deref(), cfg, &fp.map)?
+        } else {
+            let mut fp = FwHostParts::new(opts.kind);
+            fill_prior(&mut fp.map, &sim.world, EVIDENCE_MM, known)?;
+            super::pil::Pil::start(&pil.elf, pil.log.as_deref(), cfg, &fp.map)?
+        };
         let (mut rep, trace) = drive(opts, &mut sim, &mut floor, &mut exec, pose, progress)?;
         rep.wall_time_s = t0.elapsed().as_secs_f64();
         rep.firmware = exec.report.map(super::pil::FirmwareFigures::from);
         return Ok((rep, trace, floor));
     }
     // The buffers of the capacity asked for, lent to the executive.
-    let (mut hp, mut fp, mut host, mut fw);
+    let (mut hp, mut fp, mut fp16, mut host, mut fw, mut fw16);
     let parts: &mut dyn MissionParts = match opts.capacity {
         Capacity::Host => {
             hp = HostParts::new(opts.kind);
@@ -335,6 +342,12 @@ pub fn run_mission(
             prepare_map(&mut fp.map, &sim.world, opts)?;
             fw = fp.parts();
             &mut fw
+        }
+        Capacity::Fw16 => {
+            fp16 = Fw16HostParts::new(opts.kind);
+            prepare_map(&mut fp16.map, &sim.world, opts)?;
+            fw16 = fp16.parts();
+            &mut fw16
         }
     };
     let mut exec = Native {

@@ -1,11 +1,8 @@
-//! The buffers a host mission lends the executive, at one of two
+//! The buffers a host mission lends the executive, at one of three
 //! capacities: the host's (large, for benchmarks) or the firmware's (the
-//! chip's: `--capacity fw`), so that the figures reported for the robot are
-//! the ones its own buffers give.
+//! F411's: `--capacity fw`; the F405/F407's: `--capacity fw16`), so that
+//! the figures reported for the robot are the ones its own buffers give.
 
-use robovac::capacity::{
-    FwEvidence, FwFineGrid, FwMatcher, FwPlanGrid, FwPlanner, FwWindow, FW_FINE_PATH, FW_PLAN_CELLS,
-};
 use robovac::coverage::PlannerKind;
 use robovac::mission::Parts;
 use robovac::robot::lidar_map::EvidenceMap;
@@ -21,9 +18,12 @@ pub enum Capacity {
     /// fine map.
     #[default]
     Host,
-    /// The firmware's (`robovac::capacity`): homes up to 12 × 12 m, fine
-    /// searches in 2.4 m windows.
+    /// The F411 firmware's (`robovac::capacity::home12`): homes up to
+    /// 12 × 12 m, fine searches in 2.4 m windows.
     Fw,
+    /// The F405/F407 firmware's (`robovac::capacity::home16`, feature
+    /// `f407`): homes up to 16 × 16 m.
+    Fw16,
 }
 
 /// The host's buffers.
@@ -56,35 +56,52 @@ impl HostParts {
     }
 }
 
-/// The firmware's buffers (`robovac::capacity::FwParts`), on the heap.
-pub struct FwHostParts {
-    planner: Box<FwPlanner>,
-    search: Box<FwWindow>,
-    coarse: Box<FwPlanGrid>,
-    fine: Box<FwFineGrid>,
-    /// The evidence map.
-    pub map: Box<FwEvidence>,
-    path: Vec<Cell>,
-    matcher: Box<FwMatcher>,
-    /// The planning cells' rooms.
-    pub rooms: Vec<u8>,
-}
-
-impl FwHostParts {
-    /// Fresh buffers.
-    pub fn new(kind: PlannerKind) -> Self {
-        Self {
-            planner: Box::new(FwPlanner::new(kind)),
-            search: Box::new(FwWindow::new()),
-            coarse: Box::new(FwPlanGrid::new()),
-            fine: Box::new(FwFineGrid::new()),
-            map: Box::new(FwEvidence::new()),
-            path: vec![Cell::default(); FW_FINE_PATH],
-            matcher: Box::new(FwMatcher::new()),
-            rooms: vec![0; FW_PLAN_CELLS],
+/// A firmware capacity's buffers (`robovac::capacity::home12` or
+/// `home16`), on the heap.
+macro_rules! fw_parts {
+    ($(#[$doc:meta])* $name:ident, $cap:ident) => {
+        $(#[$doc])*
+        pub struct $name {
+            planner: Box<robovac::capacity::$cap::FwPlanner>,
+            search: Box<robovac::capacity::$cap::FwWindow>,
+            coarse: Box<robovac::capacity::$cap::FwPlanGrid>,
+            fine: Box<robovac::capacity::$cap::FwFineGrid>,
+            /// The evidence map.
+            pub map: Box<robovac::capacity::$cap::FwEvidence>,
+            path: Vec<Cell>,
+            matcher: Box<robovac::capacity::$cap::FwMatcher>,
+            /// The planning cells' rooms.
+            pub rooms: Vec<u8>,
         }
-    }
+
+        impl $name {
+            /// Fresh buffers.
+            pub fn new(kind: PlannerKind) -> Self {
+                use robovac::capacity::$cap as c;
+                Self {
+                    planner: Box::new(c::FwPlanner::new(kind)),
+                    search: Box::new(c::FwWindow::new()),
+                    coarse: Box::new(c::FwPlanGrid::new()),
+                    fine: Box::new(c::FwFineGrid::new()),
+                    map: Box::new(c::FwEvidence::new()),
+                    path: vec![Cell::default(); c::FW_FINE_PATH],
+                    matcher: Box::new(c::FwMatcher::new()),
+                    rooms: vec![0; c::FW_PLAN_CELLS],
+                }
+            }
+        }
+    };
 }
+fw_parts!(
+    /// The F411's buffers: homes up to 12 × 12 m.
+    FwHostParts,
+    home12
+);
+fw_parts!(
+    /// The F405/F407's buffers: homes up to 16 × 16 m.
+    Fw16HostParts,
+    home16
+);
 
 /// Lends each set of buffers to the executive as its `Parts`.
 macro_rules! lend {
@@ -108,3 +125,4 @@ macro_rules! lend {
 }
 lend!(HostParts);
 lend!(FwHostParts);
+lend!(Fw16HostParts);
