@@ -143,3 +143,32 @@ fn a_query_whose_state_was_taken_is_preempted() {
     assert_eq!((path.first(), path.last()), (Some(&a), Some(&b)));
     check_grid_path(&g, &path);
 }
+
+/// Two blocks either side of a wall too thin to close the block search do
+/// not meet on the fine grid; a gap in the wall joins them, and so does a
+/// way round through a diagonal step's side blocks.
+#[test]
+fn blocks_meet_only_through_free_cells() {
+    use robovac::search::blocks::blocks_connected;
+    let mut g: robovac::grid::Grid<8> = robovac::grid::Grid::new();
+    g.reset(12, 12).unwrap();
+    // A wall two cells thick along x = 5..=6, rows 0..=11: both blocks of
+    // side 6 at (0, 0) and (1, 0) keep free cells.
+    for y in 0..12 {
+        g.set_obstacle(5, y, true).unwrap();
+        g.set_obstacle(6, y, true).unwrap();
+    }
+    assert!(!blocks_connected(&g, (0, 0), (1, 0), 6));
+    assert!(!blocks_connected(&g, (0, 0), (1, 1), 6));
+    // Blocks that are not neighbours, and blocks too large to check, are
+    // taken as connected.
+    assert!(blocks_connected(&g, (0, 0), (2, 0), 6));
+    assert!(blocks_connected(&g, (0, 0), (1, 0), 9));
+    // A gap in the wall in the lower blocks joins the diagonal step (its
+    // side block (1, 1)... and (0, 1)), not the upper straight one.
+    g.set_obstacle(5, 9, false).unwrap();
+    g.set_obstacle(6, 9, false).unwrap();
+    assert!(blocks_connected(&g, (0, 0), (1, 1), 6));
+    assert!(blocks_connected(&g, (0, 1), (1, 1), 6));
+    assert!(!blocks_connected(&g, (0, 0), (1, 0), 6));
+}

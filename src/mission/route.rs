@@ -12,6 +12,11 @@
 //! detours inside a window where something is in the way. At the host's
 //! capacities every window is the whole map, so no route is ever taken.
 //!
+//! A block is open when any of its cells is free, so a wall thinner than
+//! two blocks does not close the block search: each step of the path found
+//! is checked on the fine map, and a block whose step crosses such a wall
+//! is closed before searching again (up to [`LEAK_CLOSES`] times).
+//!
 //! Overflow policy: a route holds [`ROUTE`] waypoints; one that needs
 //! more is not taken (the caller falls back as for a failed search). A
 //! leg that finds no way drops the rest of its route; its owner (the
@@ -20,11 +25,18 @@
 
 use crate::nav::cspace;
 use crate::nav::geometry::{nearest_free_fine, segment_clear};
+use crate::search::blocks::blocks_connected;
 use crate::search::{Algo, Progress};
+use crate::Cell;
 use heapless::Vec;
 
 /// Waypoints a route holds.
 pub const ROUTE: usize = 64;
+
+/// Blocks a route's search may close, one at a time, where its path
+/// crossed a wall thinner than two blocks ([`crate::search::blocks`]);
+/// past that the route is not taken.
+pub const LEAK_CLOSES: usize = 4;
 
 /// A route being fed: waypoints (world mm) and whether they clean.
 #[derive(Clone, Debug, Default)]
@@ -71,16 +83,19 @@ sized_impl!([] {
         let (Some(a), Some(b)) = (a, b) else {
             return false;
         };
-        let budget = self.m.cfg.node_budget;
-        let state = self.p.planner.search_state_mut();
-        let search = &mut *self.p.search;
-        if search.begin_blocks(state, self.p.fine, a, b, Algo::AStar).is_err()
-            || !matches!(search.resume(state, budget), Ok(Progress::Found(_)))
-        {
-            return false;
-        }
-        let Ok(n) = search.write_path(state, self.p.path) else {
-            return false;
+        let mut closed: Vec<Cell, LEAK_CLOSES> = Vec::new();
+        let n = loop {
+            let Some(n) = self.block_path(a, b, &closed) else {
+                return false;
+            };
+            match self.leak(n) {
+                None => break n,
+                Some(c) => {
+                    if closed.push(c).is_err() {
+                        return false;
+                    }
+                }
+            }
         };
         let Some(route) = self.thin_route(from, to, n, cover) else {
             return false;
@@ -88,6 +103,51 @@ sized_impl!([] {
         self.m.route = route;
         self.m.counters.routes += 1;
         true
+    }
+
+    /// The block search from `a` to `b` (fine cells) with the `closed`
+    /// blocks shut: its path (block centres) in `self.p.path`, and its
+    /// length; None when there is none within one node budget.
+    fn block_path(&mut self, a: Cell, b: Cell, closed: &[Cell]) -> Option<usize> {
+        let budget = self.m.cfg.node_budget;
+        let state = self.p.planner.search_state_mut();
+        let search = &mut *self.p.search;
+        search.begin_blocks(state, self.p.fine, (a, b), closed, Algo::AStar).ok()?;
+        if !matches!(search.resume(state, budget), Ok(Progress::Found(_))) {
+            return None;
+        }
+        search.write_path(state, self.p.path).ok()
+    }
+
+    /// The first step of the block path's `n` cells whose blocks do not
+    /// meet on the fine map ([`blocks_connected`]: a thin wall between
+    /// them), as the block to close before searching again: the one
+    /// entered, or the one left when the one entered is the goal's; None
+    /// when every step meets, or when only the start's and the goal's
+    /// blocks could be closed (then the route is given up on the next
+    /// search's failure, as before).
+    fn leak(&self, n: usize) -> Option<Cell> {
+        let side = self.p.search.block_side() as i32;
+        let block = |i: usize| {
+            self.p
+                .path
+                .get(i)
+                .map(|c| (c.x as i32 / side, c.y as i32 / side))
+        };
+        for i in 1..n {
+            let (Some(from), Some(to)) = (block(i - 1), block(i)) else {
+                return None;
+            };
+            if blocks_connected(self.p.fine, from, to, side) {
+                continue;
+            }
+            let shut = if i + 1 < n { to } else { from };
+            if i == 1 && i + 1 >= n {
+                return None;
+            }
+            return Cell::from_xy(shut.0, shut.1);
+        }
+        None
     }
 
     /// The route's waypoints: from `from`, greedily the farthest later

@@ -9,6 +9,7 @@
 //! [`prune`] serve [`run`], the loop.
 
 pub mod apf;
+pub mod blocks;
 pub mod dstar_lite;
 pub mod heuristics;
 pub mod jps;

@@ -189,12 +189,15 @@ impl<const N: usize, const NW: usize> WindowSearch<N, NW> {
     /// when `b` cells are at most the robot's diameter) stays closed. The
     /// path ([`WindowSearch::write_path`]) is the blocks' centre cells,
     /// which the caller must check on `big` (a centre may be blocked).
+    /// The blocks in `closed` (block coordinates) are closed whatever
+    /// their cells: steps the caller found do not meet on `big`
+    /// ([`super::blocks::blocks_connected`]).
     pub fn begin_blocks<const OPEN: usize, const GW: usize>(
         &mut self,
         state: &mut SearchState<N, NW, OPEN>,
         big: &Grid<GW>,
-        start: Cell,
-        goal: Cell,
+        (start, goal): (Cell, Cell),
+        closed: &[Cell],
         algo: Algo,
     ) -> Result<(), SearchError> {
         self.goal_count = 0;
@@ -213,6 +216,9 @@ impl<const N: usize, const NW: usize> WindowSearch<N, NW> {
                     let _ = self.grid.set_obstacle(x, y, true);
                 }
             }
+        }
+        for c in closed {
+            let _ = self.grid.set_obstacle(c.x as i32, c.y as i32, true);
         }
         self.win = Window {
             x0: 0,
@@ -264,6 +270,11 @@ impl<const N: usize, const NW: usize> WindowSearch<N, NW> {
     /// cells.
     pub fn goals(&self) -> &[Cell] {
         self.goals.get(..self.goal_count).unwrap_or(&[])
+    }
+
+    /// Block side of the current query (1 unless it is in blocks).
+    pub fn block_side(&self) -> u16 {
+        self.block.max(1)
     }
 
     /// The current query's window.
