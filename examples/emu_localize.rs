@@ -238,6 +238,22 @@ mod run {
             dropped,
             insn
         );
+        // And its trail filter (`ScanPoints::drop_on`), on a full trail:
+        // the last 3.1 m driven, ending where the robot stands.
+        m.points.set(truth, pts);
+        for i in 0..robovac::localize::trail::TRAIL_LEN as i32 {
+            m.trail.note((truth.x_mm - 3_100 + 100 * i, truth.y_mm));
+        }
+        let kept = m.points.as_slice().len();
+        let (dropped, insn) = meter.measure(|| m.points.drop_on(&m.trail));
+        defmt::println!(
+            "localize: trail filter over {} points and {} samples ({} dropped) in {} instructions",
+            kept,
+            m.trail.len(),
+            dropped,
+            insn
+        );
+        m.trail.clear();
         m.points.set(off(truth, 150, -150, 174_533), pts);
         let (r, insn) = meter.measure(|| Fusion::new().relocalise(m, map, true, false));
         let Ok(p) = r else {

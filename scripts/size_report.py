@@ -7,11 +7,21 @@ and the initial values of .data and .ccmram); static RAM = .data + .bss +
 16 x 16 m layout, memory-f407.x). The stack is what the linker script
 leaves it, from `_stack_end` up to `_stack_start` (read from the symbol
 table): the top of SRAM on the F411, the top of the CCM at 16 x 16 m.
-Usage: size_report.py ELF [RAM_BYTES]"""
-import struct, sys
 
-path = sys.argv[1]
-ram_total = int(sys.argv[2]) if len(sys.argv) > 2 else 128 * 1024
+With --stack-need N (the high-water mark a processor-in-the-loop run of
+the same executive measured, painted at boot), exit 1 when the image
+leaves the stack fewer than N bytes: static RAM grown into the stack's
+room fails CI instead of corrupting .bss on a flashed robot.
+Usage: size_report.py ELF [RAM_BYTES] [--stack-need N]"""
+import argparse, struct, sys
+
+ap = argparse.ArgumentParser(description="flash, static RAM and stack of a firmware ELF")
+ap.add_argument("elf")
+ap.add_argument("ram_bytes", nargs="?", type=int, default=128 * 1024)
+ap.add_argument("--stack-need", type=int, help="fail when the stack has fewer bytes")
+args = ap.parse_args()
+path = args.elf
+ram_total = args.ram_bytes
 CCM_BYTES = 64 * 1024
 f = open(path, 'rb').read()
 if f[:4] != b'\x7fELF' or f[4] != 1:
@@ -59,4 +69,12 @@ if ccm:
 sym = symbols()
 if '_stack_start' in sym and '_stack_end' in sym:
     where = 'CCM' if ccm else 'SRAM'
-    print(f"stack: {sym['_stack_start'] - sym['_stack_end']} bytes (top of {where})")
+    stack = sym['_stack_start'] - sym['_stack_end']
+    print(f"stack: {stack} bytes (top of {where})")
+    if args.stack_need is not None:
+        spare = stack - args.stack_need
+        print(f"stack need (measured in the loop): {args.stack_need} bytes; {spare} spare")
+        if spare < 0:
+            sys.exit(f"{path}: the stack ({stack} bytes) is smaller than the {args.stack_need} bytes measured")
+elif args.stack_need is not None:
+    sys.exit(f"{path}: no _stack_start/_stack_end symbols to check the stack against")

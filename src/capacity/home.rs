@@ -192,7 +192,7 @@ home_capacity! {
             fine_grid: 21_700,
             evidence: 29_060,
             matcher: 16 * 1024,
-            mission: 119_225,
+            mission: 118_457,
         },
     }
 }

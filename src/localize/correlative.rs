@@ -13,7 +13,7 @@
 
 use super::field::Field;
 use super::gauss_newton::{facing, refine};
-use super::points::place;
+use super::points::{place, Pt};
 use super::pyramid::Level;
 use super::{Match, PoseU};
 use crate::math::angle::sin_cos_q30;
@@ -153,7 +153,7 @@ pub const CANDIDATE_WINDOW: Window = Window {
 /// [`face_score`], into `top`.
 pub fn window<const EV: usize, const MW: usize>(
     field: &Field<'_, EV, MW>,
-    pts: &[(i32, i32)],
+    pts: &[Pt],
     guess: PoseU,
     w: &Window,
     top: &mut TopK,
@@ -179,7 +179,7 @@ pub fn window<const EV: usize, const MW: usize>(
 /// search, [`SHARPEN_WINDOW`] after the start's).
 pub fn sharpen<const EV: usize, const MW: usize>(
     field: &Field<'_, EV, MW>,
-    pts: &[(i32, i32)],
+    pts: &[Pt],
     coarse: &TopK,
     w: &Window,
 ) -> TopK {
@@ -199,7 +199,7 @@ pub fn sharpen<const EV: usize, const MW: usize>(
 /// scores 128, one in free space, deep in a wall or on a back face 0).
 pub fn face_score<const EV: usize, const MW: usize>(
     field: &Field<'_, EV, MW>,
-    pts: &[(i32, i32)],
+    pts: &[Pt],
     pose: &PoseU,
     sc: (i64, i64),
     step: usize,
@@ -225,7 +225,7 @@ pub fn face_score<const EV: usize, const MW: usize>(
 /// level's basin).
 pub fn best_heading<const EV: usize, const MW: usize>(
     field: &Field<'_, EV, MW>,
-    pts: &[(i32, i32)],
+    pts: &[Pt],
     guess: PoseU,
     steps: i64,
     step_urad: i64,
@@ -252,11 +252,7 @@ pub fn best_heading<const EV: usize, const MW: usize>(
 /// block is the place's block plus an offset that depends only on the
 /// place's parity: per heading the offsets are computed once, and a hit
 /// costs one table read and one level read.
-pub fn global<const EV: usize>(
-    level: &Level<'_>,
-    map: &EvidenceMap<EV>,
-    pts: &[(i32, i32)],
-) -> TopK {
+pub fn global<const EV: usize>(level: &Level<'_>, map: &EvidenceMap<EV>, pts: &[Pt]) -> TopK {
     let mut top = TopK::new();
     let k = pts.len().div_ceil(GLOBAL_POINTS).max(1);
     // Bounded so that `block` is positive: no division by zero linked in.
@@ -322,7 +318,7 @@ pub fn global<const EV: usize>(
 /// from it (the runner-up, for the ambiguity test).
 pub fn settle<const EV: usize, const MW: usize>(
     fields: &[Field<'_, EV, MW>],
-    pts: &[(i32, i32)],
+    pts: &[Pt],
     top: &TopK,
 ) -> (Option<Match>, Option<Match>) {
     // (face score on the finest level, the match)

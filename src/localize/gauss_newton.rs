@@ -15,7 +15,7 @@
 //! level cell and 50 mrad.
 
 use super::field::Field;
-use super::points::place;
+use super::points::{place, Pt};
 use super::PoseU;
 use crate::math::angle::sin_cos_q30;
 
@@ -36,7 +36,7 @@ pub struct Normal {
 /// Builds the normal equations at `pose`.
 pub fn normal<const EV: usize, const MW: usize>(
     field: &Field<'_, EV, MW>,
-    pts: &[(i32, i32)],
+    pts: &[Pt],
     pose: &PoseU,
 ) -> Normal {
     let sc = sin_cos_q30(pose.theta_urad);
@@ -118,7 +118,7 @@ pub fn solve(n: &Normal, cell_mm: i32) -> Option<(i32, i32, i64)> {
 /// normal equations at it.
 pub fn refine<const EV: usize, const MW: usize>(
     field: &Field<'_, EV, MW>,
-    pts: &[(i32, i32)],
+    pts: &[Pt],
     start: PoseU,
     iters: u32,
 ) -> (PoseU, Normal) {

@@ -28,6 +28,7 @@
 //!
 //! Files: [`pyramid`] the coarse wall levels; [`field`] the interpolated
 //! wall value and its gradient; [`points`] the de-skewed scan;
+//! [`trail`] the floor the body swept;
 //! [`gauss_newton`] the refinement; [`correlative`] the wide searches;
 //! [`fusion`] what is accepted, and the lost-robot detection.
 
@@ -38,6 +39,7 @@ pub mod gauss_newton;
 pub mod points;
 pub mod pyramid;
 pub mod track;
+pub mod trail;
 
 pub use fusion::{Fusion, LocStats};
 pub use points::{ScanPoints, MATCH_POINTS};
@@ -97,6 +99,8 @@ pub struct ScanMatcher<const MW: usize> {
     pub points: ScanPoints,
     /// The coarse wall levels.
     pub pyramid: Pyramid<MW>,
+    /// The floor the body swept last ([`trail`]).
+    pub trail: trail::Trail,
 }
 
 impl<const MW: usize> Default for ScanMatcher<MW> {
@@ -111,6 +115,7 @@ impl<const MW: usize> ScanMatcher<MW> {
         Self {
             points: ScanPoints::new(),
             pyramid: Pyramid::new(),
+            trail: trail::Trail::new(),
         }
     }
 }

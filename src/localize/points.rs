@@ -9,14 +9,26 @@ use crate::robot::beam::{beams, Beam, LidarMount};
 use crate::robot::lidar::scan::Scan;
 use crate::robot::odometry::Pose;
 
+use super::trail::Trail;
 use super::PoseU;
 
 /// Points kept per revolution (an LD06 revolution has about 450).
 pub const MATCH_POINTS: usize = 224;
 
+/// A scan point in the robot's frame, mm (x forward, y left). 16 bits
+/// hold ± 32.7 m, beyond any lidar range the robot takes ([`LidarMount`]'s
+/// is 12 m), and halve the points' RAM (448 bytes less than `i32`
+/// pairs on the F411, where the stack has the least room).
+pub type Pt = (i16, i16);
+
+/// A point in `i16` mm, if it fits.
+fn narrow(x: i64, y: i64) -> Option<Pt> {
+    Some((i16::try_from(x).ok()?, i16::try_from(y).ok()?))
+}
+
 /// De-skewed scan points in the robot's frame at [`ScanPoints::reference`].
 pub struct ScanPoints {
-    pts: [(i32, i32); MATCH_POINTS],
+    pts: [Pt; MATCH_POINTS],
     len: usize,
     reference: PoseU,
 }
@@ -42,7 +54,7 @@ impl ScanPoints {
     }
 
     /// The points, robot frame mm (x forward, y left).
-    pub fn as_slice(&self) -> &[(i32, i32)] {
+    pub fn as_slice(&self) -> &[Pt] {
         self.pts.get(..self.len).unwrap_or(&[])
     }
 
@@ -57,7 +69,9 @@ impl ScanPoints {
         self.len = 0;
         self.reference = reference;
         let k = pts.len().div_ceil(MATCH_POINTS).max(1);
-        for (slot, &p) in self.pts.iter_mut().zip(pts.iter().step_by(k)) {
+        let fit = pts.iter().step_by(k);
+        let fit = fit.filter_map(|&(x, y)| narrow(x.into(), y.into()));
+        for (slot, p) in self.pts.iter_mut().zip(fit) {
             *slot = p;
             self.len += 1;
         }
@@ -91,10 +105,10 @@ impl ScanPoints {
                         return;
                     }
                     let (dx, dy) = ((hx - r.x_mm) as i64, (hy - r.y_mm) as i64);
-                    let px = ((dx * c + dy * s) >> 30) as i32;
-                    let py = ((dy * c - dx * s) >> 30) as i32;
-                    if let Some(slot) = self.pts.get_mut(self.len) {
-                        *slot = (px, py);
+                    let px = (dx * c + dy * s) >> 30;
+                    let py = (dy * c - dx * s) >> 30;
+                    if let (Some(slot), Some(p)) = (self.pts.get_mut(self.len), narrow(px, py)) {
+                        *slot = p;
                         self.len += 1;
                     }
                 },
@@ -158,7 +172,10 @@ impl ScanPoints {
     pub fn drop_foreground(&mut self) -> u32 {
         let n = self.len;
         let pts = self.pts.get(..n).unwrap_or(&[]);
-        let at = |i: usize| pts.get(i % n.max(1)).copied().unwrap_or((0, 0));
+        let at = |i: usize| {
+            let (x, y) = pts.get(i % n.max(1)).copied().unwrap_or((0, 0));
+            (i32::from(x), i32::from(y))
+        };
         let Some(start) = (0..n).find(|&i| splits(at(i + n - 1), at(i))) else {
             return 0;
         };
@@ -183,6 +200,28 @@ impl ScanPoints {
             }
             seen += len;
             s = (s + len) % n;
+        }
+        self.compact(&dropped)
+    }
+
+    /// Drops every point that lands on floor the robot's body swept a
+    /// moment ago ([`Trail::swept`], placed by [`Self::reference`]):
+    /// something that moved in since, a person following the robot
+    /// ([`super::trail`]). Returns how many points were dropped.
+    pub fn drop_on(&mut self, trail: &Trail) -> u32 {
+        let Some((x0, y0, x1, y1)) = trail.bounds() else {
+            return 0;
+        };
+        let r = self.reference;
+        let sc = sin_cos_q30(r.theta_urad);
+        let mut dropped = [0u32; MATCH_POINTS.div_ceil(32)];
+        for (i, &p) in self.as_slice().iter().enumerate() {
+            let (x, y) = place(&r, sc, p);
+            if (x0..=x1).contains(&x) && (y0..=y1).contains(&y) && trail.swept((x, y)) {
+                if let Some(w) = dropped.get_mut(i / 32) {
+                    *w |= 1 << (i % 32);
+                }
+            }
         }
         self.compact(&dropped)
     }
@@ -271,7 +310,7 @@ pub fn pose_u(p: &Pose) -> PoseU {
 /// Robot-frame point `p` placed in the world by `pose`, with the pose's
 /// (sin, cos) in Q30.
 #[inline]
-pub fn place(pose: &PoseU, sc: (i64, i64), p: (i32, i32)) -> (i32, i32) {
+pub fn place(pose: &PoseU, sc: (i64, i64), p: Pt) -> (i32, i32) {
     let (s, c) = sc;
     let (px, py) = (p.0 as i64, p.1 as i64);
     let x = pose.x_mm as i64 + ((px * c - py * s) >> 30);

@@ -55,6 +55,11 @@ impl Mission {
             // People are mapped in unknown mode: their returns must not
             // pull the pose toward where they stood (`drop_foreground`).
             mt.points.drop_foreground();
+            // Nor may those of someone following on the floor the body
+            // has just swept (`localize::trail`).
+            mt.points.drop_on(&mt.trail);
+            let r = mt.points.reference();
+            mt.trail.note((r.x_mm, r.y_mm));
         }
         let (moved, turned) = self.lidar.scan.motion();
         let still = moved <= STILL.0 && turned <= STILL.1;
@@ -64,6 +69,7 @@ impl Mission {
                 self.start_fixed = true;
                 if let Ok(p) = self.loc.relocalise(mt, map, prior_only, false) {
                     self.jump_to(p, now_us);
+                    mt.trail.clear();
                     self.start = self.drive.odom.pose();
                 }
             }
@@ -73,6 +79,7 @@ impl Mission {
             if still {
                 if let Ok(p) = self.loc.relocalise(mt, map, prior_only, true) {
                     self.jump_to(p, now_us);
+                    mt.trail.clear();
                     self.relocated = true;
                     self.activity = Activity::Follow;
                 }

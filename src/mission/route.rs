@@ -123,9 +123,10 @@ sized_impl!([] {
     /// meet on the fine map ([`blocks_connected`]: a thin wall between
     /// them), as the block to close before searching again: the one
     /// entered, or the one left when the one entered is the goal's; None
-    /// when every step meets, or when only the start's and the goal's
-    /// blocks could be closed (then the route is given up on the next
-    /// search's failure, as before).
+    /// when every step meets, or when the step that does not is the only
+    /// one, from the start's block to the goal's: neither can be closed,
+    /// and the route is taken as it was before the check (its legs are
+    /// detoured inside their windows).
     fn leak(&self, n: usize) -> Option<Cell> {
         let side = self.p.search.block_side() as i32;
         let block = |i: usize| {
@@ -141,10 +142,10 @@ sized_impl!([] {
             if blocks_connected(self.p.fine, from, to, side) {
                 continue;
             }
-            let shut = if i + 1 < n { to } else { from };
             if i == 1 && i + 1 >= n {
                 return None;
             }
+            let shut = if i + 1 < n { to } else { from };
             return Cell::from_xy(shut.0, shut.1);
         }
         None

@@ -9,10 +9,12 @@ use super::executive::{Executive, Native, Sensors};
 use super::measure::{finish_report, measure};
 pub use super::report_json::report_json;
 
+use robovac::capacity::{home12, home16};
 use robovac::coverage::PlannerKind;
 use robovac::grid::Zone;
 use robovac::mission::{MapMode, Mission, MissionConfig, MissionParts, MotorCmd, State};
 use robovac::robot::hal::{BumperSwitches, ByteSource, MotorDriver};
+use robovac::robot::lidar_map::EvidenceMap;
 
 use crate::io::maps::MapData;
 use crate::io::store::MemStore;
@@ -315,13 +317,21 @@ pub fn run_mission(
         // The prior in the image's capacity (`--capacity fw16` for an
         // image built with `home16`).
         let mut exec = if opts.capacity == Capacity::Fw16 {
-            let mut fp = Fw16HostParts::new(opts.kind);
-            fill_prior(&mut fp.map, &sim.world, EVIDENCE_MM, known)?;
-            super::pil::Pil::start(&pil.elf, pil.log.as_deref(), cfg, &fp.map)?
+            pil_start(
+                pil,
+                cfg,
+                Box::new(home16::FwEvidence::new()),
+                &sim.world,
+                known,
+            )?
         } else {
-            let mut fp = FwHostParts::new(opts.kind);
-            fill_prior(&mut fp.map, &sim.world, EVIDENCE_MM, known)?;
-            super::pil::Pil::start(&pil.elf, pil.log.as_deref(), cfg, &fp.map)?
+            pil_start(
+                pil,
+                cfg,
+                Box::new(home12::FwEvidence::new()),
+                &sim.world,
+                known,
+            )?
         };
         let (mut rep, trace) = drive(opts, &mut sim, &mut floor, &mut exec, pose, progress)?;
         rep.wall_time_s = t0.elapsed().as_secs_f64();
@@ -362,6 +372,19 @@ pub fn run_mission(
     trace.rooms = super::rooms::RoomView::of(&*exec.parts, cell_mm, map_h_m);
     rep.rooms = super::rooms::RoomFigures::of(&opts.map, trace.rooms.as_ref(), &rep.counters);
     Ok((rep, trace, floor))
+}
+
+/// The firmware in the loop, sent the prior in `map`, an empty evidence
+/// map of the image's capacity.
+fn pil_start<const B: usize>(
+    pil: &super::pil::PilOptions,
+    cfg: MissionConfig,
+    mut map: Box<EvidenceMap<B>>,
+    world: &World,
+    known: bool,
+) -> Result<super::pil::Pil, String> {
+    fill_prior(&mut map, world, EVIDENCE_MM, known)?;
+    super::pil::Pil::start(&pil.elf, pil.log.as_deref(), cfg, &map)
 }
 
 /// The mission's loop with the executive given, until it ends or time is
