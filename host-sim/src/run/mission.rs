@@ -14,13 +14,11 @@ use robovac::coverage::PlannerKind;
 use robovac::grid::Zone;
 use robovac::mission::{MapMode, Mission, MissionConfig, MissionParts, MotorCmd, State};
 use robovac::robot::hal::{BumperSwitches, ByteSource, MotorDriver};
-use robovac::robot::lidar_map::EvidenceMap;
 
 use crate::io::maps::MapData;
 use crate::io::store::MemStore;
 use crate::sim::floor::Floor;
 use crate::sim::robot::{Noise, RobotConfig, Sim, MOUNT};
-use crate::sim::scan::fill_prior;
 use crate::sim::world::World;
 
 pub use super::dock::{default_start, docked_pose};
@@ -317,7 +315,7 @@ pub fn run_mission(
         // The prior in the image's capacity (`--capacity fw16` for an
         // image built with `home16`).
         let mut exec = if opts.capacity == Capacity::Fw16 {
-            pil_start(
+            super::pil::Pil::start_on(
                 pil,
                 cfg,
                 Box::new(home16::FwEvidence::new()),
@@ -325,7 +323,7 @@ pub fn run_mission(
                 known,
             )?
         } else {
-            pil_start(
+            super::pil::Pil::start_on(
                 pil,
                 cfg,
                 Box::new(home12::FwEvidence::new()),
@@ -372,19 +370,6 @@ pub fn run_mission(
     trace.rooms = super::rooms::RoomView::of(&*exec.parts, cell_mm, map_h_m);
     rep.rooms = super::rooms::RoomFigures::of(&opts.map, trace.rooms.as_ref(), &rep.counters);
     Ok((rep, trace, floor))
-}
-
-/// The firmware in the loop, sent the prior in `map`, an empty evidence
-/// map of the image's capacity.
-fn pil_start<const B: usize>(
-    pil: &super::pil::PilOptions,
-    cfg: MissionConfig,
-    mut map: Box<EvidenceMap<B>>,
-    world: &World,
-    known: bool,
-) -> Result<super::pil::Pil, String> {
-    fill_prior(&mut map, world, EVIDENCE_MM, known)?;
-    super::pil::Pil::start(&pil.elf, pil.log.as_deref(), cfg, &map)
 }
 
 /// The mission's loop with the executive given, until it ends or time is

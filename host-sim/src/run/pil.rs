@@ -132,6 +132,19 @@ impl Drop for TempDir {
 }
 
 impl Pil {
+    /// [`Self::start`] with the prior of `world` (known mode) filled into
+    /// `map`, an empty evidence map of the image's capacity.
+    pub(crate) fn start_on<const B: usize>(
+        pil: &PilOptions,
+        cfg: MissionConfig,
+        mut map: Box<EvidenceMap<B>>,
+        world: &crate::sim::world::World,
+        known: bool,
+    ) -> Result<Self, String> {
+        crate::sim::scan::fill_prior(&mut map, world, super::mission::EVIDENCE_MM, known)?;
+        Self::start(&pil.elf, pil.log.as_deref(), cfg, &map)
+    }
+
     /// Boots `elf` in QEMU and waits for its Ready. The defmt log goes to
     /// `log` (raw defmt frames: `defmt-print -e ELF < LOG`).
     pub fn start<const B: usize>(
