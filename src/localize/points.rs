@@ -17,7 +17,7 @@ pub const MATCH_POINTS: usize = 224;
 
 /// A scan point in the robot's frame, mm (x forward, y left). 16 bits
 /// hold ± 32.7 m, beyond any lidar range the robot takes ([`LidarMount`]'s
-/// is 12 m), and halve the points' RAM (448 bytes less than `i32`
+/// is 12 m), and halve the points' RAM (896 bytes less than `i32`
 /// pairs on the F411, where the stack has the least room).
 pub type Pt = (i16, i16);
 

@@ -24,6 +24,7 @@
 use super::events::EventKind;
 use super::{Activity, MapMode, Mission, Phase};
 use crate::localize::fusion::Correction;
+use crate::localize::trail::Trail;
 use crate::localize::{PoseU, ScanMatcher};
 use crate::robot::lidar_map::EvidenceMap;
 
@@ -68,8 +69,7 @@ impl Mission {
             if still {
                 self.start_fixed = true;
                 if let Ok(p) = self.loc.relocalise(mt, map, prior_only, false) {
-                    self.jump_to(p, now_us);
-                    mt.trail.clear();
+                    self.jump_to(&mut mt.trail, p, now_us);
                     self.start = self.drive.odom.pose();
                 }
             }
@@ -78,8 +78,7 @@ impl Mission {
         if self.loc.lost {
             if still {
                 if let Ok(p) = self.loc.relocalise(mt, map, prior_only, true) {
-                    self.jump_to(p, now_us);
-                    mt.trail.clear();
+                    self.jump_to(&mut mt.trail, p, now_us);
                     self.relocated = true;
                     self.activity = Activity::Follow;
                 }
@@ -113,8 +112,10 @@ impl Mission {
         self.lidar.scan.shift(dx, dy, dt_mrad);
     }
 
-    /// Sets the odometry to a relocalised pose and reports it.
-    fn jump_to(&mut self, p: PoseU, now_us: u64) {
+    /// Sets the odometry to a relocalised pose and reports it. The trail
+    /// is emptied: it was drawn in the frame the jump leaves.
+    fn jump_to(&mut self, trail: &mut Trail, p: PoseU, now_us: u64) {
+        trail.clear();
         let (x, y, t) = self.drive.odom.pose_fine();
         let (dx, dy) = (
             p.x_mm - (x / 1_000_000) as i32,
