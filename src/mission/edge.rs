@@ -14,7 +14,7 @@
 //! opens.
 
 use super::{Fault, MapMode, Phase, HOME_TRIES, MAX_RETRIES};
-use crate::grid::Layer;
+use crate::coverage::uncovered;
 use crate::math::cost::dist_mm;
 use crate::nav::cspace;
 use crate::nav::edge::{EdgePass, EdgeStep};
@@ -179,7 +179,7 @@ sized_impl!([] {
         let g = &*self.p.coarse;
         (0..g.cells()).any(|i| {
             let (x, y) = g.cell_at(i).xy();
-            g.is_free(x, y) && !g.get(Layer::Covered, x, y)
+            uncovered(g, x, y)
         })
     }
 
