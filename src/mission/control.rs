@@ -197,8 +197,13 @@ impl Mission {
             }
             Activity::Avoid => self.dwa_cmd,
             Activity::Follow => {
+                let cleaning = self.queue.front().is_none_or(|(_, cover)| cover);
                 let cmd = self.follow_front(now_us, pose);
-                let k = &self.cfg.keep_off;
+                let k = if cleaning {
+                    &self.cfg.keep_off
+                } else {
+                    &self.cfg.keep_off_transit
+                };
                 keep_off::steer(k, &self.near_walls, pose, self.cfg.radius_mm, cmd)
             }
         }

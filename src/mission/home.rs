@@ -12,12 +12,20 @@
 //! a cell, which the robot cannot lend at 12 m. So the way home and the
 //! detours stay A*.
 
-use super::{Fault, Feed, MapMode, Phase, HOME_TRIES};
+use super::{Fault, Feed, MapMode, Phase, RETURN_TRIES};
 use crate::math::cost::dist_mm;
 use crate::nav::cspace;
 use crate::nav::geometry::nearest_free_fine_within;
 use crate::robot::odometry::Pose;
 use crate::search::{Algo, SearchError};
+
+/// Farther than this from the dock (mm) at the end of the way home, the
+/// robot drives a last straight leg onto it before it turns to dock: the
+/// leg before may have ended early, cut by a person or a bump (1c home,
+/// unknown mode, realistic noise, 1 person, seed 4: it docked 75 mm off,
+/// and the issue asks for 50). Within 100 mm and once the tries run out,
+/// it docks where it is, as before.
+pub(super) const DOCK_NUDGE_MM: i64 = 20;
 
 sized_impl!([] {
     /// The way home's step: feed the path; at the end, done when at the
@@ -37,13 +45,20 @@ sized_impl!([] {
         // Home only when there: a way home given up on the way (a
         // timeout) is planned again, a few times.
         let home = (m.start.x_mm, m.start.y_mm);
-        if dist_mm((pose.x_mm, pose.y_mm), home) <= 100 {
+        let off_mm = dist_mm((pose.x_mm, pose.y_mm), home);
+        if off_mm <= 100 && off_mm > DOCK_NUDGE_MM && m.home_tries < RETURN_TRIES {
+            // Near, but the last leg was cut short (a person beside the
+            // dock, a bump): one straight leg onto the dock first.
+            m.home_tries += 1;
+            m.queue.reset((pose.x_mm, pose.y_mm));
+            let _ = m.queue.push(home, false);
+        } else if off_mm <= 100 {
             m.phase = Phase::Align;
-        } else if m.home_tries < HOME_TRIES {
+        } else if m.home_tries < RETURN_TRIES {
             m.home_tries += 1;
             // Halfway through the tries, the bumper's marks may seal a
             // narrow passage: forgotten.
-            if m.home_tries == HOME_TRIES / 2 {
+            if m.home_tries == RETURN_TRIES / 2 {
                 self.forget_marks();
             }
             let m = &mut *self.m;
@@ -78,7 +93,7 @@ sized_impl!([] {
         let b = nearest_free_fine_within(self.p.map, self.p.fine, home, 10);
         let (Some(a), Some(b)) = (a, b) else {
             // Try again on the next step (the map changes as people move);
-            // the Return phase gives up after `HOME_TRIES`.
+            // the Return phase gives up after `RETURN_TRIES`.
             m.phase = Phase::Return;
             m.fine_is_edge = false;
             return;

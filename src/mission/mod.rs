@@ -134,8 +134,8 @@ pub mod reflex;
 
 pub use config::{
     Counters, Fault, LocalPlanner, MapMode, MissionConfig, MotorCmd, State, BOXED_NODES,
-    BOXED_PLAN_NODES, BOXED_TRIES, BOXED_WAIT_US, HOME_TRIES, MAX_RETRIES, QUEUE, RING,
-    SCAN_FRAMES, SKIPPED_GOALS,
+    BOXED_PLAN_NODES, BOXED_TRIES, BOXED_WAIT_US, HOME_TRIES, MAX_RETRIES, QUEUE, RETURN_TRIES,
+    RING, SCAN_FRAMES, SKIPPED_GOALS,
 };
 pub use events::{Capacity, Event, EventKind, EVENTS};
 pub use handoff::HANDOFF;

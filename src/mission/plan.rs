@@ -59,8 +59,9 @@ sized_impl!([] {
         let pose = self.m.drive.odom.pose();
         // A tenth of a second at cruise speed (30 mm) beyond what steers.
         let c = &self.m.cfg;
-        if c.keep_off.keep_mm > 0 {
-            let reach = c.radius_mm + c.keep_off.keep_mm + 100;
+        let keep_mm = c.keep_off.keep_mm.max(c.keep_off_transit.keep_mm);
+        if keep_mm > 0 {
+            let reach = c.radius_mm + keep_mm + 100;
             self.m.near_walls = NearWalls::gather(self.p.map, (pose.x_mm, pose.y_mm), reach);
         }
         self.note_people_near(now_us, &pose);

@@ -237,7 +237,7 @@ sized_impl!([] {
     /// stands to where the queue ended; the same target given up after
     /// three tries. On the way home giving up is not failing: the way home
     /// is planned again from scratch (the Return phase's own tries,
-    /// [`super::HOME_TRIES`] in all), so a person standing a few seconds
+    /// [`super::RETURN_TRIES`] in all), so a person standing a few seconds
     /// in the corridor to the dock does not strand the robot.
     pub(super) fn replan_leg(&mut self, now_us: u64, pose: &Pose) {
         let m = &mut *self.m;
