@@ -177,8 +177,9 @@ home_capacity! {
     /// executive, and the counter of legs planned again when the map came
     /// to block them 8; the walls the control loop keeps off
     /// ([`crate::nav::keep_off`]) and the time a person was last beside
-    /// the body 72, and the transits' own keep-off 16; the cleaning goals the fine search found no way to
-    /// ([`crate::mission::SKIPPED_GOALS`]) 72; a boxed-in search's wait
+    /// the body 72, and the transits' own keep-off 16; the cleaning goals
+    /// the fine search found no way to ([`crate::mission::SKIPPED_GOALS`])
+    /// 72; a boxed-in search's wait
     /// ([`crate::mission::BOXED_NODES`] and
     /// [`crate::mission::BOXED_PLAN_NODES`]) 32. The matcher stays within
     /// the 16 KiB beyond the evidence map (9,452 bytes of levels).
