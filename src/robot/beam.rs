@@ -114,7 +114,12 @@ pub fn beams(
 /// off the beam, and a beam grazing a wall, ending in the wall's row,
 /// ran its last cells along that row and cleared the wall's face (on the
 /// real homes in unknown mode, one wall-face cell in eight read free).
-/// Four-connected: through a corner exactly, the x step comes first.
+/// Four-connected: through a corner exactly, the step along a positive
+/// axis comes first (x when both are), since a point on a cell boundary
+/// belongs to the cell above or to the right of it: a segment ending
+/// exactly on a corner while moving left and up so never enters the
+/// column left of its end (CI drew (2651, 1) -> (2650, 950), which
+/// stepped into column 52 and cleared a cell the beam only touches).
 /// Bounded: each step moves one cell closer to b's.
 pub fn walk(a: (i32, i32), b: (i32, i32), res_mm: u32, mut f: impl FnMut(i64, i64)) {
     let r = res_mm.max(1) as i64;
@@ -146,7 +151,7 @@ pub fn walk(a: (i32, i32), b: (i32, i32), res_mm: u32, mut f: impl FnMut(i64, i6
             break;
         }
         f(ix, iy);
-        if px <= py {
+        if px < py || (px == py && !(sx < 0 && sy > 0)) {
             ix += sx;
             px = px.saturating_add(r * ady);
         } else {
