@@ -3,12 +3,25 @@
 
 mod truth;
 
-use host_sim::run::mission::{run_mission, MissionOptions};
+use host_sim::run::mission::{run_mission, MissionOptions, MissionReport, MissionTrace};
 use host_sim::run::suite::suite_map;
 use host_sim::sim::robot::Noise;
 use host_sim::sim::zones::drop_map_zones;
 use robovac::mission::MapMode;
 use truth::check_truth;
+
+/// A real home (the bench's name for it) in unknown mode, its owner's
+/// zones left off, realistic noise, one person, `seed`: the mission run,
+/// checked on the truth, finished and docked.
+fn unknown_home(name: &str, seed: u64) -> (MissionReport, MissionTrace) {
+    let mut map = suite_map(name).unwrap();
+    drop_map_zones(&mut map);
+    let o = MissionOptions::new(map, MapMode::Unknown, 1, Noise::Realistic, seed);
+    let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
+    check_truth(&o, &rep, &t);
+    assert!(rep.finished && rep.docked, "{}", rep.final_state);
+    (rep, t)
+}
 
 /// A room left known, free and never entered is cleaned after the edge
 /// pass (`mission::edge`, `retry_after_edges`). The S6 home, unknown mode,
@@ -20,12 +33,7 @@ use truth::check_truth;
 /// planning cells now reopen the planner after the edge pass: 89.8 %.
 #[test]
 fn a_room_found_shut_while_someone_stood_in_its_way_is_cleaned_later() {
-    let mut map = suite_map("S6").unwrap();
-    drop_map_zones(&mut map);
-    let o = MissionOptions::new(map, MapMode::Unknown, 1, Noise::Realistic, 2);
-    let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
-    check_truth(&o, &rep, &t);
-    assert!(rep.finished && rep.docked, "{}", rep.final_state);
+    let (rep, _) = unknown_home("S6", 2);
     assert!(rep.counters.abandoned_retries > 0, "{:?}", rep.counters);
     assert!(rep.coverage >= 0.85, "coverage {:.4}", rep.coverage);
 }
@@ -39,12 +47,7 @@ fn a_room_found_shut_while_someone_stood_in_its_way_is_cleaned_later() {
 /// (docked, the mission starts on the dock).
 #[test]
 fn a_way_home_cut_short_beside_the_dock_still_ends_on_it() {
-    let mut map = suite_map("1c").unwrap();
-    drop_map_zones(&mut map);
-    let o = MissionOptions::new(map, MapMode::Unknown, 1, Noise::Realistic, 4);
-    let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
-    check_truth(&o, &rep, &t);
-    assert!(rep.finished && rep.docked, "{}", rep.final_state);
+    let (_, t) = unknown_home("1c", 4);
     let (first, last) = (t.truth.first().unwrap(), t.truth.last().unwrap());
     let off_mm = (last.0 - first.0).hypot(last.1 - first.1) * 1000.0;
     assert!(off_mm <= 50.0, "ended {off_mm:.1} mm from the dock");

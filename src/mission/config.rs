@@ -20,14 +20,15 @@ pub const SCAN_FRAMES: usize = 48;
 pub const QUEUE: usize = 48;
 /// Grid obstacles near the robot offered to DWA besides the lidar points.
 pub(super) const MAP_POINTS: usize = 64;
+/// Starts of the edge pass tried while the robot is boxed in on the map
+/// (one per planning step, 10 Hz): 30 s for whoever stands beside it to
+/// move on, after which the pass is skipped or ends where it stands
+/// ([`super::edge`]).
+pub const EDGE_TRIES: u16 = 300;
 /// Plans of the way home tried (one per planning step, 10 Hz) before the
-/// mission fails with [`Fault::NoWayHome`]: 30 s for whoever blocks the
-/// way to move on.
-pub const HOME_TRIES: u16 = 300;
-/// Plans of the way home tried before the mission fails with
-/// [`Fault::NoWayHome`]: two minutes. A person who follows the robot about
+/// mission fails with [`Fault::NoWayHome`]: two minutes. A person who follows the robot about
 /// at the end of a mission (walking into it, so the bumper marks the spot)
-/// kept it boxed in for longer than [`HOME_TRIES`]' 30 s (S6 home, unknown
+/// kept it boxed in for longer than the 30 s it once waited (S6 home, unknown
 /// mode, realistic noise, 1 person, seed 2: failed 67 s after turning
 /// home, 4 m from the dock). A robot vacuum waits for them to leave.
 pub const RETURN_TRIES: u16 = 1200;
@@ -264,6 +265,18 @@ impl MissionConfig {
         let mut apf = DEFAULT_APF;
         apf.radius_mm = dwa.radius_mm;
         apf.v_max_mm_s = dwa.v_max_mm_s;
+        // Inside the plans' 10 mm margin, so a lane along a wall is not
+        // pushed off; 40 mrad/s per mm turns a body touching the wall away
+        // at 0.3 rad/s. Known mode only: in unknown mode the walls are the
+        // robot's own map, jagged where beams graze them, and pushing off
+        // them cost floor along every wall (l10su, realistic noise, 1
+        // person, seed 4: 96.35 -> 91.47 %).
+        let keep_off = KeepOffParams {
+            keep_mm: if matches!(mode, MapMode::Known) { 8 } else { 0 },
+            gain_mrad_s_per_mm: 40,
+            max_w_mrad_s: 600,
+            slow_mm_s: 60,
+        };
         Self {
             mode,
             prior_saved: false,
@@ -293,18 +306,7 @@ impl MissionConfig {
                 moving_margin_mm: 60,
                 mapped_slack_mm: 0,
             },
-            // Inside the plans' 10 mm margin, so a lane along a wall is
-            // not pushed off; 40 mrad/s per mm turns a body touching the
-            // wall away at 0.3 rad/s. Known mode only: in unknown mode the
-            // walls are the robot's own map, jagged where beams graze
-            // them, and pushing off them cost floor along every wall
-            // (l10su, realistic noise, 1 person, seed 4: 96.35 -> 91.47 %).
-            keep_off: KeepOffParams {
-                keep_mm: if matches!(mode, MapMode::Known) { 8 } else { 0 },
-                gain_mrad_s_per_mm: 40,
-                max_w_mrad_s: 600,
-                slow_mm_s: 60,
-            },
+            keep_off,
             // Transits: the plans put them 10 mm off walls (their A*
             // hugs the configuration space's rim) and the follower strays
             // 12-17 mm from its line where a leg starts: 10 of the 13
@@ -315,9 +317,7 @@ impl MissionConfig {
             // missions: 8 collisions instead of 13.
             keep_off_transit: KeepOffParams {
                 keep_mm: 20,
-                gain_mrad_s_per_mm: 40,
-                max_w_mrad_s: 600,
-                slow_mm_s: 60,
+                ..keep_off
             },
             mount,
             lidar_timeout_us: 200_000,

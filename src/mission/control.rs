@@ -197,8 +197,7 @@ impl Mission {
             }
             Activity::Avoid => self.dwa_cmd,
             Activity::Follow => {
-                let cleaning = self.queue.front().is_none_or(|(_, cover)| cover);
-                let cmd = self.follow_front(now_us, pose);
+                let (cmd, cleaning) = self.follow_front(now_us, pose);
                 let k = if cleaning {
                     &self.cfg.keep_off
                 } else {
@@ -256,17 +255,18 @@ impl Mission {
         true
     }
 
-    /// Drives the front sub-path; drops it when done or timed out.
-    fn follow_front(&mut self, now_us: u64, pose: &Pose) -> (i32, i32) {
-        let Some((seg, _)) = self.queue.front() else {
+    /// Drives the front sub-path; drops it when done or timed out. The
+    /// command, and whether the sub-path cleans (true with none queued).
+    fn follow_front(&mut self, now_us: u64, pose: &Pose) -> ((i32, i32), bool) {
+        let Some((seg, cover)) = self.queue.front() else {
             self.subpath_since_us = now_us;
-            return (0, 0);
+            return ((0, 0), true);
         };
         if now_us.saturating_sub(self.subpath_since_us) > self.cfg.subpath_timeout_us {
             self.skip_front(now_us, false);
-            return (0, 0);
+            return ((0, 0), cover);
         }
-        match follow(&self.cfg.follow, &seg, pose) {
+        let cmd = match follow(&self.cfg.follow, &seg, pose) {
             FollowCmd::Arrived => {
                 self.queue.pop();
                 self.subpath_since_us = now_us;
@@ -274,7 +274,8 @@ impl Mission {
                 (0, 0)
             }
             FollowCmd::Drive { v_mm_s, w_mrad_s } => (v_mm_s, w_mrad_s),
-        }
+        };
+        (cmd, cover)
     }
 
     /// Gives up the current sub-path: the planner learns of it through the

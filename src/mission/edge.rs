@@ -13,8 +13,9 @@
 //! time a room's lanes are done ([`super::rooms`]), then the next room
 //! opens.
 
-use super::{Fault, MapMode, Phase, HOME_TRIES, MAX_RETRIES};
+use super::{Fault, MapMode, Phase, EDGE_TRIES, MAX_RETRIES};
 use crate::coverage::uncovered;
+use crate::grid::Cell;
 use crate::math::cost::dist_mm;
 use crate::nav::cspace;
 use crate::nav::edge::{EdgePass, EdgeStep};
@@ -37,6 +38,10 @@ const EDGE_CHORD_TOL_MM: i64 = 40;
 /// capacity the office's edge pass ended in a loop of routes and re-plans
 /// until the battery ran flat (not yet understood; kept bounded).
 const TRANSIT_CHORD_TOL_MM: i64 = 75;
+
+/// How far the queue's end may lie from the edge pass's last cell before
+/// the pass goes on from the queue's end ([`Mission::rejoin_edge`]), mm.
+const REJOIN_MM: i64 = 150;
 
 /// A pose that moved farther than this since the last mark jumped
 /// (relocalised, or back from the dock): its track is not drawn, mm.
@@ -93,7 +98,7 @@ sized_impl!([] {
             // try again next step, for up to 30 s, then skip the edge pass.
             m.edge_tries += 1;
             m.fine_is_edge = false;
-            if m.edge_tries > HOME_TRIES {
+            if m.edge_tries > EDGE_TRIES {
                 m.phase = Phase::ReturnSearch;
                 self.begin_return(pose);
             }
@@ -104,6 +109,7 @@ sized_impl!([] {
         let _ = m.queue.push(fc, false);
         m.chord.reset(fc);
         m.trace_at = None;
+        m.edge_rejoined_at = None;
         self.scope_edges(true);
         if !self.m.edge.start_keeping(self.p.fine, from) {
             self.edges_done(pose);
@@ -212,7 +218,7 @@ sized_impl!([] {
     /// Boxed in on the map (someone who stood beside the robot is still
     /// mapped around it, or a bump's mark closed in on where the edge pass
     /// stood): back to Cover, which builds the edge pass again from a
-    /// fresher map at its next step; [`HOME_TRIES`] times at most.
+    /// fresher map at its next step; [`EDGE_TRIES`] times at most.
     fn restart_edge(&mut self) {
         let m = &mut *self.m;
         m.edge_tries += 1;
@@ -238,9 +244,32 @@ sized_impl!([] {
         // starts where the queue ends.
         if let Some(end) = self.m.queue.last_end() {
             self.m.chord.reset(end);
+            self.rejoin_edge(end);
         }
         self.edge_moves();
         self.flush_chord();
+    }
+
+    /// The queue was dropped far from the pass's last cell (a leg planned
+    /// again and given up, a back-off): the pass goes on from the queue's
+    /// end, `end` (world mm), instead of joining its next contour cell to
+    /// it by a straight leg, which ran through walls (issue 10: on the
+    /// real homes such legs took 4 of the 8 collisions). Once per place
+    /// (not again within [`REJOIN_MM`] of the last rejoin): a pass rejoined
+    /// where its next cells are dropped again would loop there.
+    fn rejoin_edge(&mut self, end: (i32, i32)) {
+        let m = &mut *self.m;
+        let at = m.edge.position();
+        let last = cspace::fine_centre_mm(self.p.map, at.x as i32, at.y as i32);
+        let again = m.edge_rejoined_at.is_some_and(|r| dist_mm(r, end) <= REJOIN_MM);
+        if dist_mm(last, end) <= REJOIN_MM || again {
+            return;
+        }
+        let (cx, cy) = self.p.map.cell_of(end.0, end.1);
+        if let Some(c) = Cell::from_xy(cx, cy).filter(|_| self.p.fine.is_free(cx, cy)) {
+            m.edge.rejoin(c);
+            m.edge_rejoined_at = Some(end);
+        }
     }
 
     /// Queues what the chord holds.
@@ -285,13 +314,13 @@ sized_impl!([] {
             match self.m.edge.step(self.p.fine, search, state, self.p.path, budget) {
                 Ok(EdgeStep::Move { .. } | EdgeStep::Done)
                     if self.m.edge.stats.reached * 2 < self.m.edge.stats.free
-                        && self.m.edge_tries < HOME_TRIES =>
+                        && self.m.edge_tries < EDGE_TRIES =>
                 {
                     self.restart_edge();
                     return;
                 }
                 Err(SearchError::StartBlocked | SearchError::GoalBlocked)
-                    if self.m.edge_tries < HOME_TRIES =>
+                    if self.m.edge_tries < EDGE_TRIES =>
                 {
                     // A bump's mark stamped the grid around where the
                     // robot stands (it touched what it marked): build the

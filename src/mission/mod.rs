@@ -134,7 +134,7 @@ pub mod reflex;
 
 pub use config::{
     Counters, Fault, LocalPlanner, MapMode, MissionConfig, MotorCmd, State, BOXED_NODES,
-    BOXED_PLAN_NODES, BOXED_TRIES, BOXED_WAIT_US, HOME_TRIES, MAX_RETRIES, QUEUE, RETURN_TRIES,
+    BOXED_PLAN_NODES, BOXED_TRIES, BOXED_WAIT_US, EDGE_TRIES, MAX_RETRIES, QUEUE, RETURN_TRIES,
     RING, SCAN_FRAMES, SKIPPED_GOALS,
 };
 pub use events::{Capacity, Event, EventKind, EVENTS};
@@ -297,6 +297,9 @@ pub struct Mission {
     chord: crate::nav::chord::Chord,
     /// Where the lanes' trace was last marked ([`edge`]), world mm.
     trace_at: Option<(i32, i32)>,
+    /// Where the edge pass last went on from the queue's end instead of
+    /// its own last cell ([`edge`]), world mm.
+    edge_rejoined_at: Option<(i32, i32)>,
 }
 
 /// The executive at work on the caller's buffers `P` (the planning side).
@@ -386,6 +389,7 @@ impl Mission {
             rooms: rooms::RoomTour::new(),
             chord: crate::nav::chord::Chord::new(),
             trace_at: None,
+            edge_rejoined_at: None,
         }
     }
 

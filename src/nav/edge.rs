@@ -272,6 +272,15 @@ impl EdgePass {
         }
     }
 
+    /// Goes on from `at` while the pass walks, searches or runs a transit
+    /// (not while its fill runs, nor once done): the robot was taken
+    /// elsewhere and what the pass emitted was dropped.
+    pub fn rejoin(&mut self, at: Cell) {
+        if matches!(self.phase, Phase::Walk | Phase::Search | Phase::Transit) {
+            self.jump_to(at);
+        }
+    }
+
     /// Marks the far goal visited (no longer way to it was found).
     pub fn give_up_far_goal<const GW: usize>(&mut self, fine: &mut Grid<GW>) {
         let (x, y) = self.far_goal.xy();
