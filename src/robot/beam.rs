@@ -122,6 +122,18 @@ pub fn beams(
 /// stepped into column 52 and cleared a cell the beam only touches).
 /// Bounded: each step moves one cell closer to b's.
 pub fn walk(a: (i32, i32), b: (i32, i32), res_mm: u32, mut f: impl FnMut(i64, i64)) {
+    // Moving left and up, the walk runs on the mirrored axes (x and y
+    // swapped), where the tie goes to the original y: the same loop,
+    // so no extra work per cell in the map update's inner loop.
+    if b.0 < a.0 && b.1 > a.1 {
+        walk_x_first((a.1, a.0), (b.1, b.0), res_mm, |y, x| f(x, y));
+    } else {
+        walk_x_first(a, b, res_mm, f);
+    }
+}
+
+/// [`walk`] with ties always to x.
+fn walk_x_first(a: (i32, i32), b: (i32, i32), res_mm: u32, mut f: impl FnMut(i64, i64)) {
     let r = res_mm.max(1) as i64;
     let (x0, y0) = (a.0 as i64, a.1 as i64);
     let (dx, dy) = (b.0 as i64 - x0, b.1 as i64 - y0);
@@ -151,7 +163,7 @@ pub fn walk(a: (i32, i32), b: (i32, i32), res_mm: u32, mut f: impl FnMut(i64, i6
             break;
         }
         f(ix, iy);
-        if px < py || (px == py && !(sx < 0 && sy > 0)) {
+        if px <= py {
             ix += sx;
             px = px.saturating_add(r * ady);
         } else {
