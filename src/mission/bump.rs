@@ -62,6 +62,21 @@ pub fn sees_contact(
     })
 }
 
+/// Bumps within this of one another (mm, the marked spots' spread) are
+/// one place for [`BELIEVE_AFTER`].
+pub const SAME_PLACE_MM: i64 = 150;
+
+/// The bump in one place, counted in a row, from which the bumper is
+/// believed whatever the lidar sees there ([`sees_contact`] is not asked;
+/// a person near still is). A face can be partly dark: its reflecting
+/// part, 50-70 mm beyond the rim, made every bump on the dark part
+/// "seen", nothing was marked, and the leg was planned into the same face
+/// again (3 844 bumps in one harsh studio mission, 83.7 % covered; with
+/// this, 33 bumps and 98.4 %). Three, not two: a first bump against a
+/// seen face may be pose error, a second a leg planned again before the
+/// map caught up.
+pub const BELIEVE_AFTER: u8 = 3;
+
 /// Lidar points off the map's walls (a person, most likely) within this
 /// of the body's rim, mm: near enough to walk into it before the next
 /// look.
@@ -110,7 +125,8 @@ sized_impl!([] {
     }
 
     /// A bump that control handed off: mark the spot when the lidar does
-    /// not see it, and plan the leg again after the back-off.
+    /// not see it, or when it is the [`BELIEVE_AFTER`]th in one place, and
+    /// plan the leg again after the back-off.
     pub(super) fn bumped(&mut self, at_us: u64, pose: Pose, bearing_mrad: i32) {
         let m = &mut *self.m;
         m.bump_replan = true;
@@ -124,7 +140,14 @@ sized_impl!([] {
             )
         };
         let contact = at(bearing_mrad);
-        let seen = sees_contact(m.points(), &pose, m.cfg.radius_mm as i64, bearing_mrad)
+        let in_row = m
+            .last_bump
+            .filter(|&(p, _)| crate::math::cost::dist_mm(p, contact) <= SAME_PLACE_MM)
+            .map_or(1, |(_, n)| n.saturating_add(1));
+        m.last_bump = Some((contact, in_row));
+        let believed = in_row >= BELIEVE_AFTER;
+        let seen = (!believed
+            && sees_contact(m.points(), &pose, m.cfg.radius_mm as i64, bearing_mrad))
             || m.person_was_near(at_us);
         let spots = [-1, 0, 1].map(|k| at(bearing_mrad + k * SPREAD_MRAD));
         let marked = if seen { 0 } else { self.mark(&spots) };

@@ -26,11 +26,12 @@ pub(super) const MAP_POINTS: usize = 64;
 /// ([`super::edge`]).
 pub const EDGE_TRIES: u16 = 300;
 /// Plans of the way home tried (one per planning step, 10 Hz) before the
-/// mission fails with [`Fault::NoWayHome`]: two minutes. A person who follows the robot about
-/// at the end of a mission (walking into it, so the bumper marks the spot)
-/// kept it boxed in for longer than the 30 s it once waited (S6 home, unknown
-/// mode, realistic noise, 1 person, seed 2: failed 67 s after turning
-/// home, 4 m from the dock). A robot vacuum waits for them to leave.
+/// mission fails with [`Fault::NoWayHome`]: two minutes. A person who
+/// follows the robot about at the end of a mission (walking into it, so
+/// the bumper marks the spot) kept it boxed in for longer than the 30 s
+/// it once waited (S6 home, unknown mode, realistic noise, 1 person,
+/// seed 2: failed 67 s after turning home, 4 m from the dock). A robot
+/// vacuum waits for them to leave.
 pub const RETURN_TRIES: u16 = 1200;
 /// A cleaning detour's search that found no way having expanded fewer
 /// nodes than this (fine cells, 50 mm: a region of 0.5 m² for the robot's

@@ -219,6 +219,9 @@ pub struct Mission {
     /// When unmapped points were last near the body (µs, 0: never): a
     /// bump soon after is a person's ([`bump::PERSON_RECENT_US`]).
     person_near_us: u64,
+    /// Where the last bump was (mm) and how many bumps in a row were
+    /// there ([`bump::BELIEVE_AFTER`]).
+    last_bump: Option<((i32, i32), u8)>,
     handoff: Handoff,
     events: Events,
     phase: Phase,
@@ -337,6 +340,7 @@ impl Mission {
             apf_minimum: None,
             near_walls: NearWalls::new(),
             person_near_us: 0,
+            last_bump: None,
             handoff: Handoff::new(),
             events: Events::new(),
             phase: Phase::Idle,
