@@ -95,6 +95,32 @@ fn people_boxing_the_robot_in_do_not_end_its_lanes() {
     assert!(rep.counters.abandoned_retries < 2, "{:?}", rep.counters);
 }
 
+/// The studio flat, unknown mode, 1 person, harsh noise, seed 1. Harsh
+/// floors make part of a piece of furniture dark; its other part
+/// reflects. Each bump on the dark part, at about (2.40, 1.10) m, was
+/// taken as seen, because the reflecting part of the same face lay 50-70
+/// mm beyond the rim: nothing was marked, the leg was planned into the
+/// face again, and the robot bumped there every second or so. 3 844 bumps
+/// in 3 941 s, 83.7 % covered. Now the third bump in one place is
+/// believed (`BELIEVE_AFTER` in `src/mission/bump.rs`): 33 bumps,
+/// 98.4 %, docked.
+#[test]
+fn a_face_bumped_again_and_again_is_marked() {
+    let o = MissionOptions::new(
+        suite_map("studio").unwrap(),
+        MapMode::Unknown,
+        1,
+        Noise::Harsh,
+        1,
+    );
+    let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
+    check_truth(&o, &rep, &t);
+    assert!(rep.counters.bump_marks > 0, "{:?}", rep.counters);
+    assert!(rep.counters.bumps < 200, "{:?}", rep.counters);
+    assert!(rep.coverage > 0.95, "coverage {:.4}", rep.coverage);
+    assert!(rep.docked, "{rep:?}");
+}
+
 /// A suite map's mission in known mode under realistic noise, without the
 /// map's own no-go zones, until `max_time_s`; checked on the truth.
 fn known_mission(name: &str, people: usize, seed: u64, max_time_s: f64) -> MissionReport {
