@@ -245,3 +245,35 @@ sized_impl!([] {
         marked
     }
 });
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The two cases [`BELIEVE_AFTER`] tells apart, in the robot's frame
+    /// at the origin facing +x (radius 165 mm, a bump on the left half at
+    /// 0.5 rad; the contact spot half a cell beyond the rim).
+    #[test]
+    fn the_spot_test_tells_a_dark_face_from_a_person() {
+        let pose = Pose {
+            x_mm: 0,
+            y_mm: 0,
+            theta_mrad: 0,
+        };
+        let (r, rim) = (165_i64, 190.0_f64);
+        let contact = ((rim * 0.5f64.cos()) as i32, (rim * 0.5f64.sin()) as i32);
+        // A face's reflecting part, 55 mm beyond the rim at 1.2 rad: on
+        // the closed half, 150 mm from the spot.
+        let face = [((220.0 * 1.2f64.cos()) as i32, (220.0 * 1.2f64.sin()) as i32)];
+        assert!(sees_contact(face.into_iter(), &pose, r, 500));
+        assert!(!touches_contact(face.into_iter(), contact));
+        // A person's leg against the spot.
+        let leg = [(contact.0 + 20, contact.1 + 10)];
+        assert!(sees_contact(leg.into_iter(), &pose, r, 500));
+        assert!(touches_contact(leg.into_iter(), contact));
+        // Nothing near: neither.
+        let far = [(600, 600)];
+        assert!(!sees_contact(far.into_iter(), &pose, r, 500));
+        assert!(!touches_contact(far.into_iter(), contact));
+    }
+}
