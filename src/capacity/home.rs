@@ -21,7 +21,7 @@ pub const FW_FINE_PATH: usize = 512;
 /// Bytes of the executive itself (lidar ring and revolution, queues,
 /// events, localisation state): the same at every capacity.
 pub const FW_EXECUTIVE_BYTES: usize = core::mem::size_of::<crate::mission::Mission>();
-const _: () = assert!(FW_EXECUTIVE_BYTES <= 20_680);
+const _: () = assert!(FW_EXECUTIVE_BYTES <= 20_712);
 
 /// Writes one capacity setting: its sizes, its types and `Parts`, and
 /// the compile-time bounds on each structure's bytes.
@@ -181,8 +181,8 @@ home_capacity! {
     /// the fine search found no way to ([`crate::mission::SKIPPED_GOALS`])
     /// 72; a boxed-in search's wait ([`crate::mission::BOXED_NODES`] and
     /// [`crate::mission::BOXED_PLAN_NODES`]) 32; where the edge pass last
-    /// rejoined its dropped queue 8; the last bump's place and count
-    /// (`BELIEVE_AFTER` in `src/mission/bump.rs`) 16. The matcher stays
+    /// rejoined its dropped queue 8; the places bumped last and their
+    /// counts (`BUMP_PLACES` in `src/mission/bump.rs`) 48. The matcher stays
     /// within the 16 KiB beyond the evidence map (9,452 bytes of
     /// levels).
     home12 {
@@ -195,7 +195,7 @@ home_capacity! {
             fine_grid: 21_700,
             evidence: 29_060,
             matcher: 16 * 1024,
-            mission: 118_497,
+            mission: 118_529,
         },
     }
 }

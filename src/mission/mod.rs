@@ -219,9 +219,9 @@ pub struct Mission {
     /// When unmapped points were last near the body (µs, 0: never): a
     /// bump soon after is a person's ([`bump::PERSON_RECENT_US`]).
     person_near_us: u64,
-    /// Where the last bump was (mm) and how many bumps in a row were
-    /// there ([`bump::BELIEVE_AFTER`]).
-    last_bump: Option<((i32, i32), u8)>,
+    /// The places bumped last and the bumps at each
+    /// ([`bump::BumpPlaces`], for [`bump::BELIEVE_AFTER`]).
+    bump_places: bump::BumpPlaces,
     handoff: Handoff,
     events: Events,
     phase: Phase,
@@ -340,7 +340,7 @@ impl Mission {
             apf_minimum: None,
             near_walls: NearWalls::new(),
             person_near_us: 0,
-            last_bump: None,
+            bump_places: bump::BumpPlaces::new(),
             handoff: Handoff::new(),
             events: Events::new(),
             phase: Phase::Idle,
