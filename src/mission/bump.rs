@@ -103,6 +103,7 @@ pub const BUMP_PLACES: usize = 4;
 pub struct BumpPlaces([((i32, i32), u8); BUMP_PLACES]);
 
 impl BumpPlaces {
+    /// No place bumped yet.
     pub const fn new() -> Self {
         Self([((0, 0), 0); BUMP_PLACES])
     }
