@@ -383,7 +383,7 @@ impl Mission {
     /// it, and a wall passed 10 mm away returns no 2 σ outliers to stop
     /// it). Other mapped hits are judged as measured, a noise σ inside
     /// the corridor's edge.
-    fn free_distances(&self, pose: &Pose, turned: &Pose, v: i32) -> (i32, i32) {
+    pub(super) fn free_distances(&self, pose: &Pose, turned: &Pose, v: i32) -> (i32, i32) {
         let g = &self.cfg.guard;
         let fwd = v > 0;
         let reach = guard_reach_mm(g, v);

@@ -5,6 +5,29 @@ use super::{in_corridor, Mission};
 use crate::nav::follow::SubPath;
 
 impl Mission {
+    /// For diagnosis: the activity (following, avoiding, backing off) and
+    /// the guard's free distances (mapped, unmapped; mm) for the command
+    /// sent last, and that command (mm/s, mrad/s).
+    pub fn guard_status(&self) -> (&'static str, (i32, i32), (i32, i32)) {
+        let pose = self.drive.odom.pose();
+        let (v, w) = self.cmd;
+        let turned = crate::robot::odometry::Pose {
+            theta_mrad: pose.theta_mrad + w / 4,
+            ..pose
+        };
+        let free = if v == 0 {
+            (i32::MAX, i32::MAX)
+        } else {
+            self.free_distances(&pose, &turned, v)
+        };
+        let act = match self.activity {
+            super::Activity::Follow => "follow",
+            super::Activity::Avoid => "avoid",
+            super::Activity::BackOff { .. } => "back-off",
+        };
+        (act, free, self.cmd)
+    }
+
     /// For diagnosis: unmapped lidar points in the corridor ahead of the
     /// current sub-path, and how far the guard would let the robot drive
     /// toward its end (mm).
@@ -20,6 +43,19 @@ impl Mission {
             .filter(|&q| in_corridor(here, ahead, q, reach))
             .count();
         (n, self.free_toward(here, seg.to))
+    }
+
+    /// For diagnosis: the lidar hits within `r_mm` of the robot (world
+    /// mm), whether mapped, and the wall point a mapped one stands for.
+    pub fn hits_near(
+        &self,
+        r_mm: i64,
+    ) -> impl Iterator<Item = ((i32, i32), bool, Option<(i32, i32)>)> + '_ {
+        let pose = self.drive.odom.pose();
+        self.lidar.ring.as_slice().iter().filter_map(move |h| {
+            let (dx, dy) = ((h.x - pose.x_mm) as i64, (h.y - pose.y_mm) as i64);
+            (dx * dx + dy * dy < r_mm * r_mm).then_some((h.at(), h.mapped, h.wall_point()))
+        })
     }
 
     /// For diagnosis: the lidar points within `r_mm` of the robot (world

@@ -9,7 +9,7 @@ use robovac::mission::{Bumper, Counters, Event, Mission, MissionParts, MotorCmd,
 use robovac::robot::lidar::ParserStats;
 use robovac::robot::odometry::Pose;
 
-use super::mission_debug::{debug_collision, debug_grid, debug_tick};
+use super::mission_debug::{debug_collision, debug_fine, debug_grid, debug_tick};
 use crate::sim::robot::Sim;
 
 /// What the robot's sensors gave in one control period.
@@ -88,6 +88,8 @@ pub trait Executive {
     fn debug_collision(&self, _sim: &Sim) {}
     /// `ROBOVAC_DEBUG_TRACE` output: every simulated second.
     fn debug_tick(&self, _sim: &Sim) {}
+    /// `ROBOVAC_DEBUG_FINE` output: every control period in a window.
+    fn debug_fine(&self, _sim: &Sim) {}
 }
 
 /// The core's executive in this process, in the buffers given.
@@ -189,5 +191,8 @@ impl Executive for Native<'_> {
     }
     fn debug_tick(&self, sim: &Sim) {
         debug_tick(sim, self.mission, self.parts);
+    }
+    fn debug_fine(&self, sim: &Sim) {
+        debug_fine(sim, self.mission);
     }
 }

@@ -409,6 +409,7 @@ pub(crate) fn drive(
     let mut next_progress = 10_000_000u64;
     let trace_on = std::env::var_os("ROBOVAC_DEBUG_TRACE").is_some();
     let mut seen_collisions = 0usize;
+    let fine = super::mission_debug::fine_window();
     let mut kidnap_us = opts.kidnap_s.map(|t| (t * 1e6) as u64);
     let mut home_us = opts.home_s.map(|t| (t * 1e6) as u64);
     let mut inject = super::inject::Injector::new(opts.faults, opts.seed);
@@ -438,6 +439,9 @@ pub(crate) fn drive(
         measure(sim, mission, floor, &mut rep, &mut trace, r);
         if trace_on && sim.t_us.is_multiple_of(1_000_000) {
             mission.debug_tick(sim);
+        }
+        if fine.is_some_and(|(a, b)| (a..=b).contains(&sim.t_us)) {
+            mission.debug_fine(sim);
         }
         if sim.t_us >= next_progress {
             next_progress += 10_000_000;

@@ -1,5 +1,6 @@
-//! `ROBOVAC_DEBUG_GRID` and `ROBOVAC_DEBUG_TRACE`: what a mission shows on
-//! stderr for diagnosis (nothing unless the variable is set).
+//! `ROBOVAC_DEBUG_GRID`, `ROBOVAC_DEBUG_TRACE` and `ROBOVAC_DEBUG_FINE`:
+//! what a mission shows on stderr for diagnosis (nothing unless the
+//! variable is set).
 
 use robovac::mission::{Mission, MissionParts};
 
@@ -48,7 +49,8 @@ pub fn debug_collision(sim: &Sim, mission: &Mission, parts: &dyn MissionParts) {
         let (x, y, _) = sim.pose;
         // Walls only (`World::ray` would also hit people).
         let d = sim.world.wall_distance(x, y, 1.0);
-        eprintln!("   nearest wall {d:.3} m from the centre");
+        let at = sim.world.nearest_wall(x, y, 1.0).map(|(p, _)| p);
+        eprintln!("   nearest wall {d:.3} m from the centre, at {at:?}");
         let (px, py) = ((x * 1000.0) as i32, (y * 1000.0) as i32);
         for dy in (-5..=5).rev() {
             let row: Vec<String> = (-5..=5)
@@ -108,4 +110,45 @@ pub fn debug_tick(sim: &Sim, mission: &Mission, parts: &dyn MissionParts) {
         "   planner nodes {} {:?} pos {:?} list {}",
         v.last_step_nodes, v.stats, v.position, v.list_len
     );
+}
+
+/// `ROBOVAC_DEBUG_FINE=A,B`: the window, in simulated seconds, in which
+/// [`debug_fine`] prints every control period (µs; None when unset or
+/// malformed).
+pub fn fine_window() -> Option<(u64, u64)> {
+    let v = std::env::var("ROBOVAC_DEBUG_FINE").ok()?;
+    let (a, b) = v.split_once(',')?;
+    let us = |s: &str| s.trim().parse::<f64>().ok().map(|t| (t * 1e6) as u64);
+    Some((us(a)?, us(b)?))
+}
+
+/// `ROBOVAC_DEBUG_FINE`: one line a control period: the true pose
+/// (heading in mrad, wrapped), the estimate, the state, the guard's
+/// corridor, the true wheel speeds, the escape and guard counters and the
+/// sub-path followed.
+pub fn debug_fine(sim: &Sim, mission: &Mission) {
+    let (x, y, th) = sim.pose;
+    let e = mission.pose();
+    let c = mission.counters();
+    eprintln!(
+        "f {:.2} ({:.3},{:.3},{:.0}) est ({},{},{}) {:?} {:?} cs {:?} wh {:?} esc {} gt {} sub {:?}",
+        sim.t_us as f64 * 1e-6,
+        x,
+        y,
+        th.sin().atan2(th.cos()) * 1000.0,
+        e.x_mm,
+        e.y_mm,
+        e.theta_mrad,
+        mission.state(),
+        mission.guard_status(),
+        mission.corridor_status(),
+        sim.wheel_speeds(),
+        c.escapes,
+        c.guard_ticks,
+        mission.current_subpath().map(|s| s.0)
+    );
+    if std::env::var_os("ROBOVAC_DEBUG_HITS").is_some() {
+        let hits: Vec<_> = mission.hits_near(260).collect();
+        eprintln!("   hits {hits:?}");
+    }
 }
