@@ -344,13 +344,7 @@ impl Mission {
             return v;
         }
         let g = self.cfg.guard;
-        // A turning robot is checked along its present heading and the
-        // one it will have in a quarter second (the arc's chord).
-        let turned = Pose {
-            theta_mrad: pose.theta_mrad + w / 4,
-            ..*pose
-        };
-        let (free_static, free_moving) = self.free_distances(pose, &turned, v);
+        let (free_static, free_moving) = self.free_distances(pose, &turned(pose, w), v);
         let lim_static = limit_speed(&g, v, free_static);
         let moving = GuardParams {
             reserve_mm: g.reserve_mm + g.moving_margin_mm,
@@ -464,6 +458,16 @@ impl Mission {
             until_us: now_us + 1_200_000,
         };
         self.cmd = (0, 0);
+    }
+}
+
+/// The pose a robot turning at `w` mrad/s will have in a quarter second:
+/// the guard checks this heading beside the present one (the arc's
+/// chord).
+pub(super) fn turned(pose: &Pose, w: i32) -> Pose {
+    Pose {
+        theta_mrad: pose.theta_mrad + w / 4,
+        ..*pose
     }
 }
 

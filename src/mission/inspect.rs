@@ -11,14 +11,10 @@ impl Mission {
     pub fn guard_status(&self) -> (&'static str, (i32, i32), (i32, i32)) {
         let pose = self.drive.odom.pose();
         let (v, w) = self.cmd;
-        let turned = crate::robot::odometry::Pose {
-            theta_mrad: pose.theta_mrad + w / 4,
-            ..pose
-        };
         let free = if v == 0 {
             (i32::MAX, i32::MAX)
         } else {
-            self.free_distances(&pose, &turned, v)
+            self.free_distances(&pose, &super::control::turned(&pose, w), v)
         };
         let act = match self.activity {
             super::Activity::Follow => "follow",
@@ -61,16 +57,8 @@ impl Mission {
     /// For diagnosis: the lidar points within `r_mm` of the robot (world
     /// mm, mapped or not).
     pub fn points_near(&self, r_mm: i64) -> impl Iterator<Item = (i32, i32, bool)> + '_ {
-        let pose = self.drive.odom.pose();
-        self.lidar
-            .ring
-            .as_slice()
-            .iter()
-            .map(|h| (h.x, h.y, h.mapped))
-            .filter(move |&(x, y, _)| {
-                let (dx, dy) = ((x - pose.x_mm) as i64, (y - pose.y_mm) as i64);
-                dx * dx + dy * dy < r_mm * r_mm
-            })
+        self.hits_near(r_mm)
+            .map(|((x, y), mapped, _)| (x, y, mapped))
     }
 
     /// The last DWA command (v mm/s, ω mrad/s) while avoiding.

@@ -48,8 +48,8 @@ pub fn debug_collision(sim: &Sim, mission: &Mission, parts: &dyn MissionParts) {
         );
         let (x, y, _) = sim.pose;
         // Walls only (`World::ray` would also hit people).
-        let d = sim.world.wall_distance(x, y, 1.0);
         let at = sim.world.nearest_wall(x, y, 1.0).map(|(p, _)| p);
+        let d = at.map_or(1.0, |(wx, wy)| (wx - x).hypot(wy - y));
         eprintln!("   nearest wall {d:.3} m from the centre, at {at:?}");
         let (px, py) = ((x * 1000.0) as i32, (y * 1000.0) as i32);
         for dy in (-5..=5).rev() {
