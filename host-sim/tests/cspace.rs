@@ -263,3 +263,45 @@ fn foot_on_a_segment_at_the_extremes() {
     let _ = toward((0, 0), (100, 0), i64::MAX);
     assert_eq!(toward((0, 0), (100, 0), 40), (40, 0));
 }
+
+/// A free cell walled in on all sides (an island the corner berths can
+/// leave) is a pocket; the open floor beside it is not. The nearest free
+/// cell a search starts from skips the pocket, so a robot parked on one
+/// searches from the open floor instead of failing for ever.
+#[test]
+fn a_pocket_is_skipped_as_a_search_start() {
+    use robovac::nav::geometry::{in_pocket, search_start_fine, POCKET_CELLS};
+    let mut fine = Fine::new();
+    fine.load_ascii(
+        "##########\n\
+         #.#......#\n\
+         ###......#\n\
+         #........#\n\
+         ##########\n",
+    )
+    .unwrap();
+    assert!(in_pocket(&fine, 1, 1));
+    assert!(!in_pocket(&fine, 4, 2));
+    const { assert!(POCKET_CELLS <= 20, "the open room has 20 free cells") };
+    let mut map = Map::new();
+    map.reset(10, 5, 50).unwrap();
+    let (x, y) = robovac::nav::cspace::fine_centre_mm(&map, 1, 1);
+    let start = search_start_fine(&map, &fine, (x, y), 3).unwrap();
+    assert!(
+        !in_pocket(&fine, start.x as i32, start.y as i32),
+        "{start:?}"
+    );
+    assert!(fine.is_free(start.x as i32, start.y as i32));
+    // A pocket exactly one cell short of open, and one exactly open.
+    let row = |n: usize| format!("#{}{}#\n", ".".repeat(n), "#".repeat(20 - n));
+    for (n, pocket) in [(POCKET_CELLS - 1, true), (POCKET_CELLS, false)] {
+        let text = format!(
+            "{}{}{}",
+            "#".repeat(22) + "\n",
+            row(n),
+            "#".repeat(22) + "\n"
+        );
+        fine.load_ascii(&text).unwrap();
+        assert_eq!(in_pocket(&fine, 1, 1), pocket, "{n} cells");
+    }
+}

@@ -11,7 +11,7 @@ use crate::coverage::{CoverageError, Step};
 use crate::grid::Cell;
 use crate::math::cost::dist_mm;
 use crate::nav::cspace;
-use crate::nav::geometry::{nearest_free_fine, prune_clear, segment_clear};
+use crate::nav::geometry::{nearest_free_fine, prune_clear, search_start_fine, segment_clear};
 use crate::robot::odometry::Pose;
 use crate::search::{Algo, Progress, SearchError};
 use crate::verify::metrics::SegmentKind;
@@ -331,7 +331,7 @@ sized_impl!([] {
             m.fine_stale = false;
         }
         m.edge.interrupt();
-        let a = nearest_free_fine(self.p.map, self.p.fine, from);
+        let a = search_start_fine(self.p.map, self.p.fine, from, 3);
         let b = nearest_free_fine(self.p.map, self.p.fine, to);
         let (Some(a), Some(b)) = (a, b) else {
             // Not representable on the fine map: drive straight (the guard

@@ -19,7 +19,7 @@ use crate::grid::Cell;
 use crate::math::cost::dist_mm;
 use crate::nav::cspace;
 use crate::nav::edge::{EdgePass, EdgeStep};
-use crate::nav::geometry::{along, fine_segment_clear, nearest_free_fine_within, segment_clear};
+use crate::nav::geometry::{along, fine_segment_clear, search_start_fine, segment_clear};
 use crate::robot::odometry::Pose;
 use crate::search::SearchError;
 
@@ -92,7 +92,7 @@ sized_impl!([] {
         m.fine_is_edge = true;
         // The coverage's detours must build their own again.
         m.fine_stale = true;
-        let from = nearest_free_fine_within(self.p.map, self.p.fine, (pose.x_mm, pose.y_mm), 10);
+        let from = search_start_fine(self.p.map, self.p.fine, (pose.x_mm, pose.y_mm), 10);
         let Some(from) = from else {
             // Boxed in on the map (someone beside the robot is mapped):
             // try again next step, for up to 30 s, then skip the edge pass.

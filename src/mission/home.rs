@@ -15,7 +15,7 @@
 use super::{Fault, Feed, MapMode, Phase, RETURN_TRIES};
 use crate::math::cost::dist_mm;
 use crate::nav::cspace;
-use crate::nav::geometry::nearest_free_fine_within;
+use crate::nav::geometry::{nearest_free_fine_within, search_start_fine};
 use crate::robot::odometry::Pose;
 use crate::search::{Algo, SearchError};
 
@@ -89,7 +89,7 @@ sized_impl!([] {
         let home = (m.start.x_mm, m.start.y_mm);
         // Look wider than for a detour: the dock may have been mapped a
         // little off (drift), or someone stands beside the robot.
-        let a = nearest_free_fine_within(self.p.map, self.p.fine, from, 10);
+        let a = search_start_fine(self.p.map, self.p.fine, from, 10);
         let b = nearest_free_fine_within(self.p.map, self.p.fine, home, 10);
         let (Some(a), Some(b)) = (a, b) else {
             // Try again on the next step (the map changes as people move);

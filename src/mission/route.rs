@@ -24,7 +24,7 @@
 //! is.
 
 use crate::nav::cspace;
-use crate::nav::geometry::{nearest_free_fine, segment_clear};
+use crate::nav::geometry::{nearest_free_fine, search_start_fine, segment_clear};
 use crate::search::blocks::blocks_connected;
 use crate::search::{Algo, Progress};
 use crate::Cell;
@@ -78,7 +78,7 @@ sized_impl!([] {
     /// map in blocks and starts feeding it. False when there is none (the caller falls
     /// back as it would for a fine search that failed).
     pub(super) fn begin_route(&mut self, from: (i32, i32), to: (i32, i32), cover: bool) -> bool {
-        let a = nearest_free_fine(self.p.map, self.p.fine, from);
+        let a = search_start_fine(self.p.map, self.p.fine, from, 3);
         let b = nearest_free_fine(self.p.map, self.p.fine, to);
         let (Some(a), Some(b)) = (a, b) else {
             return false;
