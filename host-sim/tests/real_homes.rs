@@ -24,18 +24,21 @@ fn unknown_home(name: &str, seed: u64) -> (MissionReport, MissionTrace) {
 }
 
 /// A room left known, free and never entered is cleaned after the edge
-/// pass (`mission::edge`, `retry_after_edges`). The S6 home, unknown mode,
-/// realistic noise, 1 person, seed 2 (`bench missions --maps homes`): a
-/// person pacing beside the robot at 805 s made the planner give up its
-/// goals there; its completeness rescan then ran while the person still
-/// stood in the passage, found the room beyond it shut, and the lanes
-/// ended with nothing given up to retry: 69.9 % covered. Free uncleaned
-/// planning cells now reopen the planner after the edge pass: 89.8 %.
+/// pass (`mission::edge`, `retry_after_edges`). First seen on the S6
+/// home, unknown mode, realistic noise, 1 person, seed 2 (`bench
+/// missions --maps homes`): a person pacing beside the robot at 805 s
+/// made the planner give up its goals there; its completeness rescan
+/// then ran while the person still stood in the passage, found the room
+/// beyond it shut, and the lanes ended with nothing given up to retry:
+/// 69.9 % covered. Free uncleaned planning cells now reopen the planner
+/// after the edge pass: 89.8 %. Since the guard judges mapped hits at
+/// full width (stop 59) seed 2 no longer leaves a room; seed 18 does:
+/// 85.8 % covered with the late retry switched off, 99.5 % with it.
 #[test]
 fn a_room_found_shut_while_someone_stood_in_its_way_is_cleaned_later() {
-    let (rep, _) = unknown_home("S6", 2);
+    let (rep, _) = unknown_home("S6", 18);
     assert!(rep.counters.abandoned_retries > 0, "{:?}", rep.counters);
-    assert!(rep.coverage >= 0.85, "coverage {:.4}", rep.coverage);
+    assert!(rep.coverage >= 0.95, "coverage {:.4}", rep.coverage);
 }
 
 /// The robot ends on its dock even when the way home's last leg is cut

@@ -18,7 +18,7 @@ use super::{Activity, Capacity, EventKind, Fault, Mission, MotorCmd, Phase};
 use crate::nav::cspace;
 use crate::nav::follow::{follow, FollowCmd};
 use crate::nav::geometry::RobotFrame;
-use crate::nav::guard::{limit_speed, FreeDistance, GuardParams};
+use crate::nav::guard::{limit_speed, FreeDistance, GuardParams, MappedFree};
 use crate::nav::keep_off;
 use crate::robot::odometry::Pose;
 use crate::robot::wheel_control::WheelFault;
@@ -370,45 +370,35 @@ impl Mission {
     /// The free distances ahead (`v`'s direction) for mapped points and
     /// for unmapped ones (wider corridor), each the nearer of the present
     /// heading's and the turned one's: one pass over the ring, far points
-    /// skipped before their transform ([`guard_reach_mm`]). A mapped hit
-    /// on a wall cell's square is judged by the wall point it stands for
-    /// ([`Hit::wall_point`]): no range noise, so at full width (a door
-    /// jamb's corner beside the path stops the robot short of touching
-    /// it, and a wall passed 10 mm away returns no 2 σ outliers to stop
-    /// it). Other mapped hits are judged as measured, a noise σ inside
-    /// the corridor's edge.
+    /// skipped before their transform ([`guard_reach_mm`]). Mapped hits
+    /// are judged at full width ([`MappedFree`]): a hit on a wall cell's
+    /// square by the wall point it stands for ([`Hit::wall_point`]: no
+    /// range noise, so a door jamb's corner beside the path stops the
+    /// robot short of touching it, and a wall passed 10 mm away returns
+    /// no 2 σ outliers to stop it), any other as measured.
     pub(super) fn free_distances(&self, pose: &Pose, turned: &Pose, v: i32) -> (i32, i32) {
         let g = &self.cfg.guard;
         let fwd = v > 0;
         let reach = guard_reach_mm(g, v);
         let frames = [RobotFrame::of(pose), RobotFrame::of(turned)];
-        let stat = FreeDistance::new(g.radius_mm, g.mapped_slack_mm, fwd);
-        let wall = FreeDistance::new(g.radius_mm, 0, fwd);
-        let mov = FreeDistance::new(g.radius_mm + g.moving_margin_mm, 0, fwd);
-        let mut acc = [[stat; 2], [wall; 2], [mov; 2]];
-        let mut push = |class: usize, q: (i32, i32)| {
-            if let Some(c) = acc.get_mut(class) {
-                for (a, f) in c.iter_mut().zip(frames.iter()) {
-                    a.push(f.to_robot(q));
-                }
-            }
-        };
+        let mut mapped = [MappedFree::new(g.radius_mm, fwd); 2];
+        let mut moving = [FreeDistance::new(g.radius_mm + g.moving_margin_mm, 0, fwd); 2];
         for h in self.lidar.ring.as_slice() {
             if !within_square(pose, h.at(), reach) {
                 continue;
             }
-            if !h.mapped {
-                push(2, h.at());
-                continue;
-            }
-            match h.wall_point() {
-                Some(w) => push(1, w),
-                None => push(0, h.at()),
+            let wall = h.wall_point();
+            for (f, (m, u)) in frames.iter().zip(mapped.iter_mut().zip(moving.iter_mut())) {
+                match (h.mapped, wall) {
+                    (false, _) => u.push(f.to_robot(h.at())),
+                    (true, Some(w)) => m.push(f.to_robot(w), true),
+                    (true, None) => m.push(f.to_robot(h.at()), false),
+                }
             }
         }
-        let best = |c: &[FreeDistance; 2]| c[0].result().min(c[1].result());
-        let [s, w, m] = &acc;
-        (best(s).min(best(w)), best(m))
+        let [m0, m1] = &mapped;
+        let [u0, u1] = &moving;
+        (m0.result().min(m1.result()), u0.result().min(u1.result()))
     }
 
     /// Something the lidar sees explains a stall: a point within 60 mm of
