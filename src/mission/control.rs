@@ -382,7 +382,7 @@ impl Mission {
         let reach = guard_reach_mm(g, v);
         let frames = [RobotFrame::of(pose), RobotFrame::of(turned)];
         let mut mapped = [MappedFree::new(g.radius_mm, fwd); 2];
-        let mut moving = [FreeDistance::new(g.radius_mm + g.moving_margin_mm, 0, fwd); 2];
+        let mut moving = [FreeDistance::new(g.radius_mm + g.moving_margin_mm, fwd); 2];
         for h in self.lidar.ring.as_slice() {
             if !within_square(pose, h.at(), reach) {
                 continue;

@@ -54,46 +54,30 @@ pub fn free_distance_mm(
     radius_mm: i32,
     forward: bool,
 ) -> i32 {
-    free_distance_slack_mm(points, radius_mm, 0, forward)
-}
-
-/// [`free_distance_mm`] for points with range noise: only points more
-/// than `slack_mm` inside the corridor's edge count (a wall passed
-/// alongside returns noisy points up to 2 σ nearer than it is), but the
-/// distance to each is measured to the full-width body, so a corner
-/// ahead still stops the robot where the body would touch it.
-pub fn free_distance_slack_mm(
-    points: impl Iterator<Item = (i32, i32)>,
-    radius_mm: i32,
-    slack_mm: i32,
-    forward: bool,
-) -> i32 {
-    let mut f = FreeDistance::new(radius_mm, slack_mm, forward);
+    let mut f = FreeDistance::new(radius_mm, forward);
     for p in points {
         f.push(p);
     }
     f.result()
 }
 
-/// [`free_distance_slack_mm`] fed one point at a time, so one pass over
+/// [`free_distance_mm`] fed one point at a time, so one pass over
 /// the lidar ring can serve several corridors (the control tick checks
 /// two headings for two classes of points).
 #[derive(Clone, Copy, Debug)]
 pub struct FreeDistance {
     r: i64,
-    edge: i64,
     forward: bool,
     first: i64,
     second: i64,
 }
 
 impl FreeDistance {
-    /// An empty corridor of half-width `radius_mm`, counting points more
-    /// than `slack_mm` inside its edge, ahead (`forward`) or behind.
-    pub fn new(radius_mm: i32, slack_mm: i32, forward: bool) -> Self {
+    /// An empty corridor of half-width `radius_mm`, ahead (`forward`) or
+    /// behind.
+    pub fn new(radius_mm: i32, forward: bool) -> Self {
         Self {
             r: radius_mm as i64,
-            edge: (radius_mm - slack_mm.max(0)) as i64,
             forward,
             first: i32::MAX as i64,
             second: i32::MAX as i64,
@@ -106,7 +90,7 @@ impl FreeDistance {
         // x − r bounds d from below (the half chord is at most r): a
         // point that far cannot be among the two nearest, and its square
         // root is skipped (most of a room's points).
-        if x <= 0 || y.abs() >= self.edge || x - self.r >= self.second {
+        if x <= 0 || y.abs() >= self.r || x - self.r >= self.second {
             return;
         }
         let half_chord = isqrt_u64((self.r * self.r - y * y) as u64) as i64;
@@ -136,7 +120,7 @@ impl FreeDistance {
 /// every occupied cell, so it is not noise off a known wall but a wall
 /// the map holds only weakly (a diagonal wall's staircase, its cells
 /// short of the occupied threshold; a wall not yet mapped). Judged a
-/// noise σ inside the corridor's edge, as until stop 58, hits 161–166 mm
+/// noise σ inside the corridor's edge, as until stop 59, hits 161–166 mm
 /// beside the path (z10, unknown mode, seed 1) went uncounted and the
 /// body grazed that wall.
 #[derive(Clone, Copy, Debug)]
@@ -149,7 +133,7 @@ impl MappedFree {
     /// An empty corridor of half-width `radius_mm`, ahead (`forward`) or
     /// behind.
     pub fn new(radius_mm: i32, forward: bool) -> Self {
-        let f = FreeDistance::new(radius_mm, 0, forward);
+        let f = FreeDistance::new(radius_mm, forward);
         Self { wall: f, other: f }
     }
 
