@@ -76,6 +76,7 @@
 
 use super::correlative::{self, wrap_urad};
 use super::field::Field;
+use super::pyramid::GLOBAL_LEVEL;
 pub use super::track::{conditioned, track, track_within, HEADING_STEPS, MIN_POINTS};
 use super::{Match, MatchError, PoseU, ScanMatcher};
 use crate::robot::lidar_map::EvidenceMap;
@@ -378,7 +379,7 @@ impl Fusion {
         }
         let f = |k| Field::new(map, &m.pyramid, k, prior_only);
         let top = if global {
-            let coarse = correlative::global(&m.pyramid.level(3), map, pts);
+            let coarse = correlative::global(&m.pyramid.level(GLOBAL_LEVEL), map, pts);
             correlative::sharpen(&f(1), pts, &coarse, &correlative::CANDIDATE_WINDOW)
         } else {
             let mut coarse = correlative::TopK::new();

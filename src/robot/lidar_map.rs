@@ -382,6 +382,16 @@ impl<const B: usize> EvidenceMap<B> {
         }
     }
 
+    /// True for a wall cell ([`Self::is_wall`]) with a cell beside it
+    /// (4-neighbour) that is not one: the face a lidar can see. The
+    /// inside of a thick wall, and the solid never-seen space round a
+    /// home a prior map may hold, are walls with no face.
+    pub fn is_wall_face(&self, cx: i32, cy: i32, prior_only: bool) -> bool {
+        let wall = |x, y| self.is_wall(x, y, prior_only);
+        wall(cx, cy)
+            && !(wall(cx - 1, cy) && wall(cx + 1, cy) && wall(cx, cy - 1) && wall(cx, cy + 1))
+    }
+
     /// Ray-casts every point of a scan; returns the number of cells
     /// updated.
     pub fn integrate_scan<const F: usize>(&mut self, scan: &Scan<F>, mount: &LidarMount) -> u32 {
