@@ -1,7 +1,8 @@
 //! The coarse levels of the scan matcher (Hector SLAM's map pyramid,
 //! Kohlbrecher 2011 §IV-C): level k (1..=[`LEVELS`]) has blocks of 2^k
 //! evidence cells a side, each holding the share of its cells that are
-//! walls, in 4 bits (0..=15 for 0..=1).
+//! walls, in 4 bits (0..=15 for 0..=1); the coarsest, which only the
+//! whole-map search reads, counts wall faces only ([`GLOBAL_LEVEL`]).
 //!
 //! Why shares, not Hector's "any wall in the block": bilinear
 //! interpolation of box-filtered occupancy crosses ½ exactly on a straight
@@ -80,21 +81,21 @@ impl<const MW: usize> Pyramid<MW> {
             return false;
         }
         self.words.iter_mut().for_each(|x| *x = 0);
-        // Level 1 counts its 2 × 2 cells; each coarser level sums four
-        // blocks of the one below (counts up to 4^k, saturating at 15 per
-        // nibble only when stored as a share).
+        // Each level counts the cells of its blocks (up to 4^k), stored
+        // as a share of 15.
         for k in 1..=LEVELS {
             let Some(&(lw, lh, _)) = self.dims.get(k - 1) else {
                 continue;
             };
             let side = 1i32 << k;
+            let faces = k == GLOBAL_LEVEL;
             for by in 0..lh as i32 {
                 for bx in 0..lw as i32 {
                     let mut n = 0u32;
                     for dy in 0..side {
                         for dx in 0..side {
                             let (x, y) = (bx * side + dx, by * side + dy);
-                            n += if k == GLOBAL_LEVEL {
+                            n += if faces {
                                 map.is_wall_face(x, y, prior_only)
                             } else {
                                 map.is_wall(x, y, prior_only)
