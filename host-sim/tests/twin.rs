@@ -4,7 +4,7 @@
 use host_sim::io::maps::MapData;
 use host_sim::run::drive::{drive, parse_route, DriveOptions, Route};
 use host_sim::sim::robot::{Noise, RobotConfig, Sim};
-use host_sim::sim::world::World;
+use host_sim::sim::world::{World, MIN_LEG_M};
 use robovac::robot::hal::{ByteSource, MotorDriver};
 use robovac::robot::lidar::ld06::Ld06;
 use robovac::robot::lidar::LidarProtocol;
@@ -172,6 +172,28 @@ fn people_walk_and_are_seen() {
     if !world.disc_hits_wall(ox, oy, 0.01) {
         let d = world.ray(ox, oy, 0.0, 12.0).unwrap();
         assert!((d - (1.0 - world.people[0].radius_m)).abs() < 1e-6, "{d}");
+    }
+}
+
+/// People walk across rooms: every leg of every loop, the closing one
+/// included, is at least `MIN_LEG_M` long and clear of walls (seeds 1–40,
+/// three people each, on a real home).
+#[test]
+fn people_walk_legs_across_the_room() {
+    let map = host_sim::run::suite::suite_map("S8").unwrap();
+    for seed in 1..=40 {
+        let mut world = World::new(map.clone(), 0.05);
+        world.add_people(3, &mut robovac::grid::maps::SplitMix64::new(seed));
+        assert_eq!(world.people.len(), 3, "seed {seed}");
+        for p in &world.people {
+            let n = p.waypoints.len();
+            for i in 0..n {
+                let (a, b) = (p.waypoints[i], p.waypoints[(i + 1) % n]);
+                let len = (b.0 - a.0).hypot(b.1 - a.1);
+                assert!(len >= MIN_LEG_M, "seed {seed}: leg {len:.2} m");
+                assert!(world.segment_clear(a, b, p.radius_m), "seed {seed}");
+            }
+        }
     }
 }
 
