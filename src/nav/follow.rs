@@ -97,30 +97,7 @@ pub fn track_errors(seg: &SubPath, x_mm: i32, y_mm: i32) -> (i64, i64) {
     (cross, len - along)
 }
 
-/// How far from a sub-path's start a robot that has not yet reached it
-/// (behind it along the line) drives to the start first, mm: twice
-/// `arrive_mm`, so a sub-path begun where the last one ended never does.
-///
-/// Why: the plan guarantees the line from `from` to `to`, not a line from
-/// wherever the robot stands. When a sub-path was dropped before it was
-/// driven, the next began 39 mm to one side of its start, and the
-/// look-ahead's shallow approach (9°) carried the body into a door jamb
-/// the line passes 4 mm off (a real home, z10, unknown map, realistic
-/// noise, seed 9, t 1327 s).
-pub const fn rejoin_mm(p: &FollowParams) -> i32 {
-    2 * p.arrive_mm
-}
-
-/// `q` lies within `r_mm` of the pose's position.
-fn near(q: (i32, i32), pose: &Pose, r_mm: i32) -> bool {
-    let (dx, dy) = ((q.0 - pose.x_mm) as i64, (q.1 - pose.y_mm) as i64);
-    dx * dx + dy * dy <= r_mm as i64 * r_mm as i64
-}
-
-/// One control step on a sub-path from the estimated pose. Aims at a
-/// point `lookahead_mm` further along the line than the robot's
-/// projection on it, or at the start when the robot is behind the start
-/// and farther than [`rejoin_mm`] from it.
+/// One control step on a sub-path from the estimated pose.
 pub fn follow(p: &FollowParams, seg: &SubPath, pose: &Pose) -> FollowCmd {
     let (_, remaining) = track_errors(seg, pose.x_mm, pose.y_mm);
     let (ex, ey) = ((seg.to.0 - pose.x_mm) as i64, (seg.to.1 - pose.y_mm) as i64);
@@ -135,16 +112,11 @@ pub fn follow(p: &FollowParams, seg: &SubPath, pose: &Pose) -> FollowCmd {
         (seg.to.1 - seg.from.1) as i64,
     );
     let len = crate::math::cost::isqrt_round_u64((dx * dx + dy * dy) as u64).max(1) as i64;
-    let along = len - remaining;
-    let ahead = (along + p.lookahead_mm as i64).min(len);
-    let aim = if along <= 0 && !near(seg.from, pose, rejoin_mm(p)) {
-        (seg.from.0 as i64, seg.from.1 as i64)
-    } else {
-        (
-            seg.from.0 as i64 + dx * ahead / len,
-            seg.from.1 as i64 + dy * ahead / len,
-        )
-    };
+    let ahead = (len - remaining + p.lookahead_mm as i64).min(len);
+    let aim = (
+        seg.from.0 as i64 + dx * ahead / len,
+        seg.from.1 as i64 + dy * ahead / len,
+    );
     let (ax, ay) = (aim.0 - pose.x_mm as i64, aim.1 - pose.y_mm as i64);
     let target = if ax * ax + ay * ay < 100 {
         atan2_urad(ey, ex)
