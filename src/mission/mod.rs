@@ -267,6 +267,8 @@ pub struct Mission {
     /// found its way.
     boxed_wait: Option<cover::BoxedWait>,
     boxed_tries: u8,
+    /// Cleaning detours that failed in a row from one start.
+    pocket: cover::Pocket,
     /// The planner's abandoned-goal count when last seen (a rise means
     /// its last search gave goals up).
     plan_abandoned_seen: u32,
@@ -375,6 +377,7 @@ impl Mission {
             skipped_goals: heapless::Vec::new(),
             boxed_wait: None,
             boxed_tries: 0,
+            pocket: cover::Pocket::new(),
             plan_abandoned_seen: 0,
             late_retry: false,
             undriven_retry: false,
