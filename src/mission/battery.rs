@@ -143,6 +143,7 @@ sized_impl!([] {
         m.counters.charges += 1;
         m.battery.depart = Some((pm, now_us));
         m.home_tries = 0;
+        m.home_best_mm = u16::MAX;
         m.guard_block_since = None;
         m.activity = Activity::Follow;
         m.queue.reset((pose.x_mm, pose.y_mm));

@@ -275,9 +275,13 @@ pub struct Mission {
     /// The goals given up were tried once more after the edge pass.
     late_retry: bool,
     /// The cells taken as covered and never driven were handed back once,
-    /// after the retry budget ran out ([`MAX_RETRIES`]).
+    /// after the edge pass: in unknown mode always, in known mode once the
+    /// retry budget ran out ([`MAX_RETRIES`]).
     undriven_retry: bool,
     home_tries: u16,
+    /// The way home's nearest approach to the dock so far, mm (saturating;
+    /// `u16::MAX` before it starts): progress restores the tries.
+    home_best_mm: u16,
     edge_tries: u16,
     started_us: u64,
     counters: Counters,
@@ -382,6 +386,7 @@ impl Mission {
             late_retry: false,
             undriven_retry: false,
             home_tries: 0,
+            home_best_mm: u16::MAX,
             edge_tries: 0,
             started_us: 0,
             counters: Counters::new(),
