@@ -120,6 +120,7 @@ mod home;
 mod inspect;
 mod lidar;
 mod locate;
+pub use locate::STILL_MAP_EVERY;
 mod phase;
 mod plan;
 mod progress;
