@@ -197,7 +197,8 @@ sized_impl!([] {
     /// planner, from where the robot stands (`from`): 88.7 % (a person
     /// kept standing in that strip).
     ///
-    /// In unknown mode, whatever the budget: a cleaning goal skipped for
+    /// In unknown mode, whatever the budget (unless its map was loaded with
+    /// the floor a run before cleaned): a cleaning goal skipped for
     /// want of a way there stays taken as covered ([`Self::skip_goal`]), so
     /// a person standing where the home opens into its other half once had
     /// the planner's grid marked covered across a half the robot never
@@ -208,7 +209,10 @@ sized_impl!([] {
     /// its skipped goals go back on their own ([`Self::hand_back_skipped`]).
     fn retry_undriven(&mut self, from: (i32, i32)) -> bool {
         let m = &mut *self.m;
-        let spent = m.reopens >= MAX_RETRIES || m.cfg.mode == MapMode::Unknown;
+        // A saved map's restored progress (a power loss, the map kept
+        // between runs) was driven in the run before: not handed back.
+        let fresh = m.cfg.mode == MapMode::Unknown && !m.cfg.prior_saved;
+        let spent = m.reopens >= MAX_RETRIES || fresh;
         if m.undriven_retry || !spent || !m.planner_done {
             return false;
         }
