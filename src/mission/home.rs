@@ -175,7 +175,9 @@ mod tests {
         assert_eq!(nearer(300, 0), Some(0));
         assert_eq!(nearer(0, 0), None);
         assert_eq!(nearer(u16::MAX, -5), Some(0));
-        assert_eq!(nearer(u16::MAX, i64::MAX), None);
+        // The first approach is noted, however far (saturated).
+        assert_eq!(nearer(u16::MAX, i64::MAX), Some(u16::MAX));
+        assert_eq!(nearer(u16::MAX - 299, i64::MAX), None);
         // From 16 m the tries are restored at most 16 000 / 300 times.
         let (mut best, mut restores) = (u16::MAX, 0);
         for off in (0..=16_000).rev() {
