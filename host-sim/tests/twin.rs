@@ -4,7 +4,7 @@
 use host_sim::io::maps::MapData;
 use host_sim::run::drive::{drive, parse_route, DriveOptions, Route};
 use host_sim::sim::robot::{Noise, RobotConfig, Sim};
-use host_sim::sim::world::{World, MIN_LEG_M};
+use host_sim::sim::world::{World, MIN_LEG_M, MIN_LOOP};
 use robovac::robot::hal::{ByteSource, MotorDriver};
 use robovac::robot::lidar::ld06::Ld06;
 use robovac::robot::lidar::LidarProtocol;
@@ -175,18 +175,25 @@ fn people_walk_and_are_seen() {
     }
 }
 
-/// People walk across rooms: every leg of every loop, the closing one
-/// included, is at least `MIN_LEG_M` long and clear of walls (seeds 1–40,
-/// three people each, on a real home).
+/// People walk across rooms: every loop has at least `MIN_LOOP`
+/// waypoints (nobody paces one line to and fro), and every leg, the
+/// closing one included, is at least `MIN_LEG_M` long and clear of walls
+/// (seeds 1–40, three people each, on a real home and on the drawn home
+/// flat).
 #[test]
 fn people_walk_legs_across_the_room() {
-    let map = host_sim::run::suite::suite_map("S8").unwrap();
-    for seed in 1..=40 {
-        let mut world = World::new(map.clone(), 0.05);
+    let s8 = (host_sim::run::suite::suite_map("S8").unwrap(), 0.05);
+    let flat = (host_sim::run::suite::suite_map("home").unwrap(), 0.1);
+    for ((map, cell_m), seed) in [s8, flat]
+        .iter()
+        .flat_map(|m| (1..=40).map(move |s| (m, s)))
+    {
+        let mut world = World::new(map.clone(), *cell_m);
         world.add_people(3, &mut robovac::grid::maps::SplitMix64::new(seed));
         assert_eq!(world.people.len(), 3, "seed {seed}");
         for p in &world.people {
             let n = p.waypoints.len();
+            assert!(n >= MIN_LOOP, "seed {seed}: a loop of {n} waypoints");
             for i in 0..n {
                 let (a, b) = (p.waypoints[i], p.waypoints[(i + 1) % n]);
                 let len = (b.0 - a.0).hypot(b.1 - a.1);
