@@ -40,8 +40,9 @@ fn marks_that_box_the_robot_in_are_forgotten() {
     assert!(rep.coverage > 0.4, "coverage {:.4}", rep.coverage);
 }
 
-/// A real home (S6), known map, 1 person, realistic noise, seed 2. The
-/// person's loop crosses a narrow passage; they wait 4 s beside the robot
+/// A real home (S6), known map, 1 person, realistic noise, seed 2 (seed
+/// 11 since people walk loops of 3 waypoints at least, `MIN_LOOP`: 12
+/// bumps by 600 s, none marked). The person's loop crosses a narrow passage; they wait 4 s beside the robot
 /// in their way, then push past it, standing over the lidar, which then
 /// sees nothing of them. Those bumps were marked as walls the lidar cannot
 /// see (6 by 200 s), and a known map never forgets its marks: the robot,
@@ -52,7 +53,7 @@ fn marks_that_box_the_robot_in_are_forgotten() {
 /// walk): the bound is set well above the 8.4 % of the failure.
 #[test]
 fn a_person_pushing_past_the_robot_is_not_marked_as_a_wall() {
-    let rep = known_mission("S6", 1, 2, 600.0);
+    let rep = known_mission("S6", 1, 11, 600.0);
     assert!(rep.counters.bumps > 0, "{:?}", rep.counters);
     assert_eq!(rep.counters.bump_marks, 0, "{:?}", rep.counters);
     assert!(!rep.final_state.starts_with("Failed"), "{rep:?}");

@@ -23,12 +23,11 @@
 //! return is noisy (σ 10 mm). A wall ahead is the guard's; this acts only
 //! on walls at least 27° off the heading.
 //!
-//! On the cleaning legs the mission uses it from 8 mm in known mode and
-//! from 4 mm in unknown mode ([`crate::mission::MissionConfig::new`]): in
-//! unknown mode the walls are the robot's own map, jagged where beams
-//! graze them, and steering off them from 8 mm cost floor along the walls
-//! (a real home, seed 4: 96.35 → 91.47 %); from 4 mm it only stops a body
-//! about to touch. On the legs that clean nothing (transits, the way home) it acts in
+//! On the cleaning legs the mission uses it in known mode only
+//! ([`crate::mission::MissionConfig::new`]): in unknown mode the walls are
+//! the robot's own map, jagged where beams graze them, and steering off
+//! them cost floor along the walls (a real home, seed 4: 96.35 → 91.47 %).
+//! On the legs that clean nothing (transits, the way home) it acts in
 //! both modes and from farther off (`keep_off_transit`): there the floor
 //! beside the wall does not matter, and most of the last grazes were
 //! there.
