@@ -333,3 +333,28 @@ fn the_maps_outside_is_surely_blocked() {
     assert!(!disc_blocked(&*m, 500, 500, 150, false));
     assert!(!disc_surely_blocked(&*m, 500, 500, 150, 4));
 }
+
+/// A map saved by a known-mode run holds its walls as `PRIOR_WALL`, like
+/// bumper marks; loaded for an unknown-mode run they are thawed into
+/// ordinary walls, so forgetting the marks later frees none of them.
+#[test]
+fn a_loaded_maps_frozen_walls_thaw_and_outlive_forgotten_marks() {
+    use robovac::robot::lidar_map::{LIMIT, PRIOR_WALL};
+    let mut m: Box<EvidenceMap<{ evidence_bytes(20 * 4) }>> = Box::new(EvidenceMap::new());
+    m.reset(20, 4, 100).unwrap();
+    for x in 0..20 {
+        m.set_state(x, 0, CellState::Occupied);
+    }
+    assert_eq!(m.freeze_prior(), 20);
+    assert_eq!(m.evidence(7, 0), PRIOR_WALL);
+    assert_eq!(m.thaw_prior(), 20);
+    assert_eq!(m.evidence(7, 0), LIMIT);
+    assert!(m.mark_contact(550, 250));
+    assert_eq!(m.forget_contacts(), 1, "only this run's mark");
+    assert!((0..20).all(|x| m.state(x, 0) == CellState::Occupied));
+    // Thawed, a wall is the lidar's again: beams through it clear it.
+    for _ in 0..7 {
+        m.trace(750, 50, 750, 395, false);
+    }
+    assert_eq!(m.state(7, 0), CellState::Free);
+}

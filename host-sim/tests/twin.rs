@@ -204,6 +204,32 @@ fn people_walk_legs_across_the_room() {
     }
 }
 
+/// A room too small for a loop of legs of [`MIN_LEG_M`]: the people asked
+/// for are left out, and the mission report counts them.
+#[test]
+fn people_with_no_loop_to_walk_are_counted_not_hidden() {
+    let mut text = String::from("##############\n");
+    for _ in 0..12 {
+        text.push_str("#............#\n");
+    }
+    text.push_str("##############\n");
+    let map =
+        host_sim::io::maps::parse_ascii(std::path::Path::new("box.txt"), text.as_bytes()).unwrap();
+    let mut world = World::new(map.clone(), 0.1);
+    world.add_people(2, &mut robovac::grid::maps::SplitMix64::new(1));
+    assert!(world.people.is_empty());
+    let opts = host_sim::run::mission::MissionOptions::new(
+        map,
+        robovac::mission::MapMode::Known,
+        2,
+        Noise::None,
+        1,
+    );
+    let (rep, _, _) = host_sim::run::mission::run_mission(&opts, |_, _, _| {}).unwrap();
+    assert_eq!(rep.people_missing, 2);
+    assert!(rep.finished, "{rep:?}");
+}
+
 #[test]
 fn square_drive_odometry_and_mapping() {
     let opts = |noise| DriveOptions {

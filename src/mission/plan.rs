@@ -32,6 +32,8 @@ sized_impl!([] {
         self.p.planner.set_kind(cfg.kind);
         if cfg.mode == MapMode::Known {
             self.p.map.freeze_prior();
+        } else if cfg.prior_saved {
+            self.p.map.thaw_prior();
         }
         if cfg.localize {
             self.p.matcher.pyramid.build(self.p.map, cfg.mode == MapMode::Known);

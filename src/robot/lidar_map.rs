@@ -341,6 +341,30 @@ impl<const B: usize> EvidenceMap<B> {
         n
     }
 
+    /// A saved map loaded for an unknown-mode run
+    /// ([`crate::mission::MissionConfig::prior_saved`]): turns every
+    /// [`PRIOR_WALL`] into a well-seen wall ([`LIMIT`]) that the lidar
+    /// keeps up to date, as it does the rest of the map. A map saved by a
+    /// known-mode run holds all its walls as `PRIOR_WALL`, the value of a
+    /// bumper's mark; left so, [`Self::forget_contacts`] would free every
+    /// wall of the home (the studio's power-loss rerun lost itself with
+    /// its pose 7 mm right: no wall was left to match), and walls frozen
+    /// where the first run drifted could never be corrected. The earlier
+    /// run's bumper marks become ordinary walls too: what the lidar cannot
+    /// see there, it clears, and the bumper marks it again. Returns the
+    /// cells thawed.
+    pub fn thaw_prior(&mut self) -> u32 {
+        let mut n = 0;
+        let cells = self.width as usize * self.height as usize;
+        for i in 0..cells {
+            if self.get(i) == PRIOR_WALL {
+                self.put(i, LIMIT);
+                n += 1;
+            }
+        }
+        n
+    }
+
     /// Unknown mode: turns every contact the bumper marked
     /// ([`Self::mark_contact`]) back into a free cell that the lidar judges
     /// again (one hit makes it occupied). For a robot boxed in by its own

@@ -32,6 +32,10 @@ pub fn summary(rep: &MissionReport) -> String {
             rep.charging_time_s / 60.0
         ),
     };
+    let missing = match rep.people_missing {
+        0 => String::new(),
+        n => format!(" · {n} people asked for found no loop to walk and were left out"),
+    };
     let objects = rep.objects.map_or(String::new(), |o| {
         format!(
             " · {} unseen objects: {} contacts, {} wheel snags, {:.1} % of the floor near them swept",
@@ -60,6 +64,7 @@ pub fn summary(rep: &MissionReport) -> String {
     ) + &charges
         + &zones
         + &objects
+        + &missing
 }
 
 /// Things the lidar cannot see: sofas brown and hatched, crossbars brown

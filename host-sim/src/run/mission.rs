@@ -158,6 +158,11 @@ pub struct MissionReport {
     pub bumper_contacts: usize,
     /// A person walked into the robot.
     pub person_contacts: usize,
+    /// People asked for who found no loop to walk on this map
+    /// ([`crate::sim::world::World::add_people`]) and were left out. Left
+    /// out when 0.
+    #[serde(skip_serializing_if = "super::report_json::is_zero_usize")]
+    pub people_missing: usize,
     /// Smallest true gap between the body and a wall or person, m.
     pub min_clearance_m: f64,
     /// Smallest true gap between the body and a wall, m.
@@ -458,6 +463,7 @@ pub(crate) fn drive(
     mission.debug_grid(true);
     finish_report(&mut rep, mission, sim, floor, pose, &cfg);
     rep.objects = crate::sim::objects::ObjectFigures::of(sim, floor);
+    rep.people_missing = opts.people.saturating_sub(sim.world.people.len());
     battery_report(&mut rep, &power);
     trace.truth = std::mem::take(&mut sim.trajectory);
     rep.injected = inject.done;

@@ -363,7 +363,9 @@ impl World {
 
     /// Adds `n` people walking loops of 3–5 waypoints at 0.5–1.0 m/s, each
     /// leg a straight line clear of walls by the person's radius and at
-    /// least [`MIN_LEG_M`] long.
+    /// least [`MIN_LEG_M`] long. A person for whom 50 tries find no loop of
+    /// [`MIN_LOOP`] waypoints (a map too small or too cramped) is left
+    /// out: the mission report counts them (`people_missing`).
     pub fn add_people(&mut self, n: usize, rng: &mut SplitMix64) {
         let r = 0.15;
         for _ in 0..n {
