@@ -330,11 +330,17 @@ impl<const B: usize> EvidenceMap<B> {
     /// Known mode: turns every occupied cell into a [`PRIOR_WALL`], fixed
     /// from now on. Returns the number of walls frozen.
     pub fn freeze_prior(&mut self) -> u32 {
+        self.recode(|e| e >= OCCUPIED_AT, PRIOR_WALL)
+    }
+
+    /// Sets every cell whose evidence passes `which` to `to`; returns how
+    /// many did. No change is noted ([`Self::take_changed`]).
+    fn recode(&mut self, which: impl Fn(i8) -> bool, to: i8) -> u32 {
         let mut n = 0;
         let cells = self.width as usize * self.height as usize;
         for i in 0..cells {
-            if self.get(i) >= OCCUPIED_AT {
-                self.put(i, PRIOR_WALL);
+            if which(self.get(i)) {
+                self.put(i, to);
                 n += 1;
             }
         }
@@ -354,15 +360,7 @@ impl<const B: usize> EvidenceMap<B> {
     /// see there, it clears, and the bumper marks it again. Returns the
     /// cells thawed.
     pub fn thaw_prior(&mut self) -> u32 {
-        let mut n = 0;
-        let cells = self.width as usize * self.height as usize;
-        for i in 0..cells {
-            if self.get(i) == PRIOR_WALL {
-                self.put(i, LIMIT);
-                n += 1;
-            }
-        }
-        n
+        self.recode(|e| e == PRIOR_WALL, LIMIT)
     }
 
     /// Unknown mode: turns every contact the bumper marked
@@ -374,14 +372,7 @@ impl<const B: usize> EvidenceMap<B> {
     /// mode, where the prior's walls are the same value. Returns the cells
     /// freed.
     pub fn forget_contacts(&mut self) -> u32 {
-        let mut n = 0;
-        let cells = self.width as usize * self.height as usize;
-        for i in 0..cells {
-            if self.get(i) == PRIOR_WALL {
-                self.put(i, FREE_AT);
-                n += 1;
-            }
-        }
+        let n = self.recode(|e| e == PRIOR_WALL, FREE_AT);
         if n > 0 {
             self.changed = (0, 0, self.width as i32 - 1, self.height as i32 - 1);
         }
