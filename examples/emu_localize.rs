@@ -265,14 +265,15 @@ mod run {
             insn, d, dt
         );
         m.points.set(PoseU::default(), pts);
-        let (r, insn) = meter.measure(|| Fusion::new().relocalise(m, map, true, true));
+        let ((r, insn), stack) =
+            common::stack_depth(|| meter.measure(|| Fusion::new().relocalise(m, map, true, true)));
         let Ok(p) = r else {
             fail("global relocalisation")
         };
         let (d, dt) = check(p, truth, "global relocalisation");
         defmt::println!(
-            "localize: whole-map relocalisation (48 m2 flat) in {} instructions; {} mm, {} mrad from the truth",
-            insn, d, dt
+            "localize: whole-map relocalisation (48 m2 flat) in {} instructions and {} bytes of stack; {} mm, {} mrad from the truth",
+            insn, stack, d, dt
         );
     }
 

@@ -91,6 +91,37 @@ impl Meter {
     }
 }
 
+/// Bytes of stack below the caller's frame that [`stack_depth`] paints
+/// and reads.
+#[allow(dead_code)] // emu_localize's only
+const PROBE_BYTES: usize = 16 * 1024;
+#[allow(dead_code)]
+const PROBE_PAINT: u32 = 0xC0FF_EE11;
+
+/// Runs `f` and returns its result with the bytes of stack it used below
+/// this frame: [`PROBE_BYTES`] under the stack pointer are painted first,
+/// and the deepest word no longer holding the paint is as deep as `f`
+/// went (the statics lie far below on these examples' 128 KiB).
+#[inline(never)]
+#[allow(dead_code)]
+pub fn stack_depth<R>(f: impl FnOnce() -> R) -> (R, usize) {
+    let sp = cortex_m::register::msp::read() as usize;
+    let (low, high) = (sp - PROBE_BYTES, sp - 64);
+    let mut p = low;
+    while p < high {
+        // SAFETY: below the live stack, above every static: unused memory.
+        unsafe { core::ptr::write_volatile(p as *mut u32, PROBE_PAINT) };
+        p += 4;
+    }
+    let r = f();
+    let mut p = low;
+    // SAFETY: reads of the painted words.
+    while p < high && unsafe { core::ptr::read_volatile(p as *const u32) } == PROBE_PAINT {
+        p += 4;
+    }
+    (r, sp - p)
+}
+
 pub fn fail(what: &str) -> ! {
     defmt::error!("CHECK FAILED: {}", what);
     exit(debug::EXIT_FAILURE)

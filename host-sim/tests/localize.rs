@@ -571,21 +571,24 @@ fn someone_following_the_robot_does_not_hold_the_pose_back() {
     assert!(rep.pose_error_max_mm <= 100.0, "{rep:?}");
 }
 
-/// A kidnap in a real home: twin scans at 20 random free places of each
+/// A kidnap in a real home: twin scans at 50 random free places of each
 /// of the six real homes (ValetudoMap exports, whose never-seen space
 /// round the home the prior holds as solid wall), matched over the whole
-/// map from no guess. Measured with the whole-map search counting every
-/// wall cell: 6, 4, 15, 13, 9 and 2 of 20 found; with wall faces only
-/// ([`robovac::localize::pyramid::GLOBAL_LEVEL`]): 17, 20, 20, 20, 20, 15.
+/// map from no guess. Measured at 20 places each, with the whole-map
+/// search counting every wall cell: 6, 4, 15, 13, 9 and 2 of 20 found;
+/// with wall faces only ([`robovac::localize::pyramid::GLOBAL_LEVEL`]):
+/// 17, 20, 20, 20, 20, 15. At 50 places each: 286 of 300 with 32 coarse
+/// points and 12 candidates, 296 with faces beyond a block's edge, 64
+/// points and 48 candidates (l10su 46 of 50, the others 50); none wrong.
 #[test]
 fn global_relocalisation_finds_the_robot_in_real_homes() {
     for name in ["S8", "z10", "1c", "S6", "3790", "l10su"] {
         let data = suite_map(name).unwrap();
         let cell_m = data.cell_m.unwrap_or(0.1);
         let Bench { world, map, mut m } = bench_of(World::new(data, cell_m));
-        let mut rng = SplitMix64::new(7);
+        let mut rng = SplitMix64::new(11);
         let mut found = 0;
-        for _ in 0..20 {
+        for _ in 0..50 {
             let (t, pts) = random_scan(&world, &mut rng);
             m.points.set(PoseU::default(), &pts);
             if let Ok(p) = Fusion::new().relocalise(&m, &map, true, true) {
@@ -595,7 +598,30 @@ fn global_relocalisation_finds_the_robot_in_real_homes() {
                 found += 1;
             }
         }
-        eprintln!("{name}: {found} of 20 found");
-        assert!(found >= 14, "{name}: only {found} of 20 found");
+        eprintln!("{name}: {found} of 50 found");
+        assert!(found >= 45, "{name}: only {found} of 50 found");
+    }
+}
+
+/// Where the S8 home's kidnap at 600 s put the robot down (known mode,
+/// realistic, 1 person, seed 1: `Failed(Lost)` before the fix): beside a
+/// wall whose face lies on a 40 cm block border of the whole-map search's
+/// level, so every return off it fell in the free block before it (27 of
+/// 32 coarse points hit at the true pose, clutter elsewhere 29–31). Found
+/// at every heading now ([`robovac::localize::pyramid::GLOBAL_LEVEL`]'s
+/// faces beyond a block's edge, [`robovac::localize::correlative::GLOBAL_TOP`]).
+#[test]
+fn global_relocalisation_finds_the_s8_kidnap_spot() {
+    let data = suite_map("S8").unwrap();
+    let cell_m = data.cell_m.unwrap_or(0.1);
+    let Bench { world, map, mut m } = bench_of(World::new(data, cell_m));
+    let mut rng = SplitMix64::new(7);
+    for th in [-0.157f64, 0.5, 1.5, 3.0] {
+        let t = (6.07, 5.74, th);
+        let pts = twin_scan(&world, t, 450, 0.01, 0.02, 0.0, &mut rng);
+        m.points.set(PoseU::default(), &pts);
+        let p = Fusion::new().relocalise(&m, &map, true, true);
+        let (d, dt) = error(p.unwrap(), t);
+        assert!(d <= 30.0 && dt <= 8_727, "{t:?}: {d:.1} mm {dt} µrad");
     }
 }

@@ -355,6 +355,12 @@ fn cmd_mission(
         opts.people, opts.seed
     );
     println!("  {}", summary(&rep));
+    if let Some((at_s, (x, y, th))) = trace.kidnap {
+        println!(
+            "  kidnapped at {at_s:.0} s: put down at ({x:.2}, {y:.2}) m heading {th:.2} rad; {:.1} s lost",
+            rep.lost_time_s
+        );
+    }
     if events {
         for e in &trace.events {
             println!("  {:>8.2} s  {:?}", e.at_us as f64 * 1e-6, e.kind);
@@ -364,6 +370,10 @@ fn cmd_mission(
         let mut v = report_json(&rep);
         if events {
             v["events"] = events_json(&trace.events);
+        }
+        if let Some((at_s, (x, y, th))) = trace.kidnap {
+            v["kidnap"] =
+                serde_json::json!({"at_s": at_s, "put_down_m": [x, y], "heading_rad": th});
         }
         write_file(f, &v.to_string())?;
     }

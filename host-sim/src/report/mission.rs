@@ -254,6 +254,13 @@ pub fn mission_svg(
         ));
     }
     let minima = local_minima_svg(&mut c, &t.events);
+    if let Some((_, (x, y, _))) = t.kidnap {
+        let (x, y) = c.px((x, y));
+        c.raw(&format!(
+            "<path d=\"M{x:.1},{:.1} l8,14 l-16,0 z\" fill=\"#9467bd\" stroke=\"#000\"/>\n",
+            y - 9.0
+        ));
+    }
     let (x, y) = c.px(t.start);
     c.raw(&format!(
         "<rect x=\"{:.1}\" y=\"{:.1}\" width=\"12\" height=\"12\" fill=\"#2ca02c\" stroke=\"#000\"/>\n",
@@ -291,7 +298,8 @@ pub fn mission_svg(
             rep.dock_heading_error_mrad
         ),
         "green: swept · red: reachable floor missed · blue line: robot (truth) · pink dashes: its own estimate · orange: people · rings: avoidances · crosses: collisions · square: dock · grey: the vendor robot's paths · red hatched: no-go areas, red lines: virtual walls · brown: sofas and crossbars, purple dashes: cables (dots: wheel snags)".to_string()
-            + if minima > 0 { " · black diamonds: the potential field's local minima" } else { "" },
+            + if minima > 0 { " · black diamonds: the potential field's local minima" } else { "" }
+            + &t.kidnap.map_or(String::new(), |(at, _)| format!(" · purple triangle: put down there by the kidnap at {at:.0} s")),
     ];
     c.finish(&lines)
 }

@@ -61,12 +61,13 @@ impl Fusion {
         }
         let f = |k| Field::new(map, &m.pyramid, k, prior_only);
         let top = if global {
-            let coarse = correlative::global(&m.pyramid.level(GLOBAL_LEVEL), map, pts);
-            correlative::sharpen(&f(1), pts, &coarse, &correlative::CANDIDATE_WINDOW)
+            whole_map(m, map, prior_only)
         } else {
-            let mut coarse = correlative::TopK::new();
+            let mut coarse = correlative::TopK::<{ correlative::TOP }>::new();
             let w = &correlative::START_WINDOW;
-            correlative::window(&f(2), pts, m.points.reference(), w, &mut coarse);
+            correlative::window(&f(2), pts, m.points.reference(), w, |s, p| {
+                coarse.offer(s, p)
+            });
             correlative::sharpen(&f(1), pts, &coarse, &correlative::SHARPEN_WINDOW)
         };
         let (best, runner) = correlative::settle(&[f(1), f(0)], pts, &top);
@@ -89,6 +90,22 @@ impl Fusion {
         }
         Ok(self.resume(best.pose))
     }
+}
+
+/// The whole map's candidates for [`correlative::settle`]: the coarse
+/// search's [`correlative::GLOBAL_TOP`], the best [`correlative::TOP`] of
+/// them after a window on the 20 cm level, sharpened on the 10 cm one.
+fn whole_map<const EV: usize, const MW: usize>(
+    m: &ScanMatcher<MW>,
+    map: &EvidenceMap<EV>,
+    prior_only: bool,
+) -> correlative::TopK {
+    let pts = m.points.as_slice();
+    let f = |k| Field::new(map, &m.pyramid, k, prior_only);
+    let coarse: correlative::TopK<{ correlative::GLOBAL_TOP }> =
+        correlative::global(&m.pyramid.level(GLOBAL_LEVEL), map, pts);
+    let mid = correlative::sharpen(&f(2), pts, &coarse, &correlative::CANDIDATE_WINDOW);
+    correlative::sharpen(&f(1), pts, &mid, &correlative::SHARPEN_WINDOW)
 }
 
 /// The odometry's own pose, refined (or the whole map's `best` when it
