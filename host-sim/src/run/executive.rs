@@ -193,6 +193,6 @@ impl Executive for Native<'_> {
         debug_tick(sim, self.mission, self.parts);
     }
     fn debug_fine(&self, sim: &Sim) {
-        debug_fine(sim, self.mission);
+        debug_fine(sim, self.mission, self.parts);
     }
 }

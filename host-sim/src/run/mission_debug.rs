@@ -1,4 +1,5 @@
-//! `ROBOVAC_DEBUG_GRID`, `ROBOVAC_DEBUG_TRACE` and `ROBOVAC_DEBUG_FINE`:
+//! `ROBOVAC_DEBUG_GRID`, `ROBOVAC_DEBUG_TRACE`, `ROBOVAC_DEBUG_FINE` and
+//! `ROBOVAC_DEBUG_NEAR`:
 //! what a mission shows on stderr for diagnosis (nothing unless the
 //! variable is set).
 
@@ -36,9 +37,10 @@ pub fn debug_grid(parts: &dyn MissionParts, covered: bool) {
 pub fn debug_collision(sim: &Sim, mission: &Mission, parts: &dyn MissionParts) {
     if let Some(c) = sim.collisions.last() {
         eprintln!(
-            "COLLISION t {:.2} by_person {} robot ({:.3},{:.3},{:.2}) state {:?} wheels {:?} people {:?}",
+            "COLLISION t {:.2} by_person {} unseen {} robot ({:.3},{:.3},{:.2}) state {:?} wheels {:?} people {:?}",
             c.t_s,
             c.by_person,
+            c.unseen,
             sim.pose.0,
             sim.pose.1,
             sim.pose.2,
@@ -126,7 +128,10 @@ pub fn fine_window() -> Option<(u64, u64)> {
 /// (heading in mrad, wrapped), the estimate, the state, the guard's
 /// corridor, the true wheel speeds, the escape and guard counters and the
 /// sub-path followed.
-pub fn debug_fine(sim: &Sim, mission: &Mission) {
+pub fn debug_fine(sim: &Sim, mission: &Mission, parts: &dyn MissionParts) {
+    if std::env::var_os("ROBOVAC_DEBUG_NEAR").is_some() {
+        debug_near(sim, parts);
+    }
     let (x, y, th) = sim.pose;
     let e = mission.pose();
     let c = mission.counters();
@@ -150,5 +155,41 @@ pub fn debug_fine(sim: &Sim, mission: &Mission) {
     if std::env::var_os("ROBOVAC_DEBUG_HITS").is_some() {
         let hits: Vec<_> = mission.hits_near(260).collect();
         eprintln!("   hits {hits:?}");
+    }
+}
+
+/// `ROBOVAC_DEBUG_NEAR` (with `ROBOVAC_DEBUG_FINE`): 2.4 m around the
+/// robot, north up, 50 mm apart: the evidence map (`#` occupied, `7` a
+/// bumper's mark, `.` free, blank unknown) beside the twin's grid (`#`
+/// wall, `d` dark furniture, `g` glass, `R` the robot).
+fn debug_near(sim: &Sim, parts: &dyn MissionParts) {
+    use robovac::robot::lidar_map::{FREE_AT, OCCUPIED_AT, PRIOR_WALL};
+    let (x, y, _) = sim.pose;
+    let (px, py) = ((x * 1000.0) as i32, (y * 1000.0) as i32);
+    let (c0, r0) = sim.world.cell_of(x, y);
+    let twin = |c: i32, r: i32| {
+        if (c, r) == (c0, r0) {
+            'R'
+        } else if sim.world.dark.contains(&(c, r)) {
+            'd'
+        } else if sim.world.glass.contains(&(c, r)) {
+            'g'
+        } else if sim.world.map.is_blocked(c, r) {
+            '#'
+        } else {
+            '.'
+        }
+    };
+    for k in (-24..=24).rev() {
+        let ev: String = (-24..=24)
+            .map(|dx| match parts.evidence_at(px + dx * 50, py + k * 50) {
+                PRIOR_WALL => '7',
+                e if e >= OCCUPIED_AT => '#',
+                e if e <= FREE_AT => '.',
+                _ => ' ',
+            })
+            .collect();
+        let tw: String = (c0 - 24..=c0 + 24).map(|c| twin(c, r0 - k)).collect();
+        eprintln!("   near {ev} | {tw}");
     }
 }
