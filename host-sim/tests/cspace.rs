@@ -161,6 +161,40 @@ fn a_bump_mark_survives_beams_through_it() {
     assert_eq!(map.state(cx, cy), CellState::Occupied);
 }
 
+/// Forgetting the marks near a robot shut in by them frees those within
+/// the square only, notes the change, and leaves marks elsewhere (a glass
+/// pane across the room stays marked) and the lidar's own walls alone.
+#[test]
+fn marks_are_forgotten_near_a_point_only() {
+    let mut map = random_map(20, 20, 50, &[]);
+    for _ in 0..10 {
+        map.trace(25, 325, 975, 325, true);
+    }
+    let wall = map.cell_of(975, 325);
+    assert_eq!(map.state(wall.0, wall.1), CellState::Occupied);
+    assert!(map.mark_contact(525, 525) && map.mark_contact(575, 525));
+    assert!(map.mark_contact(125, 925));
+    let _ = map.take_changed();
+    let (cx, cy) = map.cell_of(525, 525);
+    assert_eq!(map.forget_contacts_near(cx, cy, 3), 2);
+    let changed = map.take_changed().expect("the change is noted");
+    assert!(changed.0 <= cx && changed.2 > cx && changed.1 <= cy && changed.3 >= cy);
+    assert_ne!(map.state(cx, cy), CellState::Occupied);
+    let far = map.cell_of(125, 925);
+    assert_eq!(
+        map.state(far.0, far.1),
+        CellState::Occupied,
+        "a far mark stays"
+    );
+    assert_eq!(
+        map.state(wall.0, wall.1),
+        CellState::Occupied,
+        "a wall stays"
+    );
+    assert_eq!(map.forget_contacts_near(cx, cy, 3), 0);
+    assert_eq!(map.forget_contacts_near(-100, -100, 5), 0, "off the map");
+}
+
 /// Squared distance (mm²) from point p to segment a–b, in floating point
 /// (independent of the core's integer version).
 fn seg_dist2_f(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {

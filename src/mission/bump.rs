@@ -33,6 +33,11 @@ use crate::robot::odometry::Pose;
 /// on the rim of a 165 mm body plus half a 5 cm cell).
 pub const SPREAD_MRAD: i32 = 250;
 
+/// Evidence cells beyond the robot's clearance within which a bumper mark
+/// may shut a search's start in (`Mission::forget_marks_near`): the
+/// start is looked for within 3 fine cells, plus one for rounding.
+pub const SHUT_IN_CELLS: i32 = 4;
+
 /// A lidar point within this of the body's rim (mm), in front on the side
 /// that closed, means the lidar sees what was touched (range noise is
 /// 10 mm; what the bumper pressed against is at 0).
@@ -259,12 +264,37 @@ sized_impl!([] {
     /// fades, so one can seal a narrow passage or box the robot in. The
     /// mission calls this when it is stuck: boxed in on the edge pass
     /// ([`super::edge`]), halfway through the way home's tries
-    /// ([`super::home`]), and at the late retry of given-up lanes. A known
+    /// ([`super::home`]), and at the late retry of given-up lanes; a
+    /// detour with no start forgets those around the robot only
+    /// ([`Self::forget_marks_near`]). A known
     /// map's walls share the marks' cell value, so there it does nothing.
     pub(super) fn forget_marks(&mut self) {
         if self.m.cfg.mode == MapMode::Unknown {
             self.p.map.forget_contacts();
         }
+    }
+
+    /// Unknown mode: forgets the bumper's marks within the robot's
+    /// clearance and [`SHUT_IN_CELLS`] of `p` (world mm), the marks that
+    /// can shut a search's start in (see `Mission::detour`). True when any
+    /// was forgotten (the map change is noted).
+    pub(super) fn forget_marks_near(&mut self, p: (i32, i32)) -> bool {
+        if self.m.cfg.mode != MapMode::Unknown {
+            return false;
+        }
+        let map = &mut *self.p.map;
+        let r = self.m.cfg.radius_mm + self.m.cfg.margin_mm;
+        let reach = r / map.res_mm().max(1) as i32 + SHUT_IN_CELLS;
+        let (cx, cy) = map.cell_of(p.0, p.1);
+        if map.forget_contacts_near(cx, cy, reach) == 0 {
+            return false;
+        }
+        if let Some(changed) = self.p.map.take_changed() {
+            let res = self.p.map.res_mm();
+            self.m.note_map_change(res, changed);
+            self.m.map_dirty = true;
+        }
+        true
     }
 
     /// Marks the evidence cells at `spots` (world mm) as walls the lidar

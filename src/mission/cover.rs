@@ -397,18 +397,13 @@ sized_impl!([] {
     /// `to` (the fine grid is rebuilt first when the map changed during
     /// coverage; the edge pass's grid is used as it is).
     pub(super) fn detour(&mut self, from: (i32, i32), to: (i32, i32), cover: bool) {
-        let m = &mut *self.m;
-        if m.fine_stale && !m.fine_is_edge {
-            let r = (m.cfg.radius_mm + m.cfg.margin_mm) as u32;
-            if cspace::build_fine(self.p.map, self.p.fine, r, false).is_err() {
-                self.fail(Fault::Capacity);
-                return;
-            }
-            m.fine_stale = false;
+        if self.m.fine_stale && !self.m.fine_is_edge && !self.rebuild_fine() {
+            return;
         }
-        m.edge.interrupt();
-        let a = search_start_fine(self.p.map, self.p.fine, from, 3);
+        self.m.edge.interrupt();
+        let a = self.start_fine(from);
         let b = nearest_free_fine(self.p.map, self.p.fine, to);
+        let m = &mut *self.m;
         let (Some(a), Some(b)) = (a, b) else {
             // Not representable on the fine map: drive straight (the guard
             // still protects).
@@ -435,6 +430,40 @@ sized_impl!([] {
             from,
             routable: !m.in_route,
         });
+    }
+
+    /// The fine configuration space built again from the map (the
+    /// lanes' grid, not the edge pass's). False, with the mission failed,
+    /// when it does not fit.
+    fn rebuild_fine(&mut self) -> bool {
+        let r = (self.m.cfg.radius_mm + self.m.cfg.margin_mm) as u32;
+        if cspace::build_fine(self.p.map, self.p.fine, r, false).is_err() {
+            self.fail(Fault::Capacity);
+            return false;
+        }
+        self.m.fine_stale = false;
+        true
+    }
+
+    /// Where a detour from `from` starts ([`search_start_fine`]). When
+    /// there is none and bumper marks lie by the robot, they may be what
+    /// shuts it in: they are forgotten there (unknown mode,
+    /// [`Self::forget_marks_near`]) and the start looked for again. A glass
+    /// pane standing free in a room (the 1c home, unknown mode, harsh
+    /// noise, seed 8) was bumped along; its marks spread past the pane's
+    /// end and shut the robot in beside it. With no start, a detour drives
+    /// straight to its goal under the guard, which cannot see glass: 855
+    /// bumps, and the battery ran flat 4.4 m from the dock. What the
+    /// bumper meets again is marked again.
+    fn start_fine(&mut self, from: (i32, i32)) -> Option<Cell> {
+        let a = search_start_fine(self.p.map, self.p.fine, from, 3);
+        if a.is_some() || self.m.fine_is_edge || !self.forget_marks_near(from) {
+            return a;
+        }
+        if !self.rebuild_fine() {
+            return None;
+        }
+        search_start_fine(self.p.map, self.p.fine, from, 3)
     }
 
     /// Advances the fine path being fed (search, then queueing its cells).

@@ -379,6 +379,26 @@ impl<const B: usize> EvidenceMap<B> {
         n
     }
 
+    /// [`Self::forget_contacts`] within `reach` cells (a square) of cell
+    /// (cx, cy) only: the marks that shut a robot in, not those that keep
+    /// it off a glass pane across the home. Returns the cells freed.
+    pub fn forget_contacts_near(&mut self, cx: i32, cy: i32, reach: i32) -> u32 {
+        let mut n = 0;
+        for y in cy - reach..=cy + reach {
+            for x in cx - reach..=cx + reach {
+                let Some(i) = self.index(x, y) else {
+                    continue;
+                };
+                if self.get(i) == PRIOR_WALL {
+                    self.put(i, FREE_AT);
+                    self.changed = union_box(self.changed, (x, y, x, y));
+                    n += 1;
+                }
+            }
+        }
+        n
+    }
+
     /// A hit within one cell of a prior wall is that wall seen with range
     /// noise (known mode): it adds nothing, so noisy returns do not thicken
     /// the prior's walls into the free cells before them.

@@ -60,20 +60,35 @@ pub fn debug_collision(sim: &Sim, mission: &Mission, parts: &dyn MissionParts) {
                 .collect();
             eprintln!("   ev {}", row.join(""));
         }
-        let (c0, r0) = sim.world.cell_of(x, y);
-        for r in r0 - 6..=r0 + 6 {
-            let row: String = (c0 - 6..=c0 + 6)
-                .map(
-                    |c| match (sim.world.map.is_blocked(c, r), (c, r) == (c0, r0)) {
-                        (_, true) => 'R',
-                        (true, _) => '#',
-                        _ => '.',
-                    },
-                )
-                .collect();
-            eprintln!("   tw {row}");
+        for k in (-6..=6).rev() {
+            eprintln!("   tw {}", twin_row(sim, k, 6));
         }
     }
+}
+
+/// Row `k` (north positive) of the twin's grid round the robot, sampled
+/// 50 mm apart over `reach` points each side, as the evidence map is
+/// printed beside it (the twin's cells may be 50 or 100 mm): `#` wall, `d`
+/// dark furniture, `g` glass, `R` the robot's cell, `.` floor.
+fn twin_row(sim: &Sim, k: i32, reach: i32) -> String {
+    let (x, y, _) = sim.pose;
+    let robot = sim.world.cell_of(x, y);
+    (-reach..=reach)
+        .map(|dx| {
+            let cell = sim.world.cell_of(x + dx as f64 * 0.05, y + k as f64 * 0.05);
+            if cell == robot {
+                'R'
+            } else if sim.world.dark.contains(&cell) {
+                'd'
+            } else if sim.world.glass.contains(&cell) {
+                'g'
+            } else if sim.world.map.is_blocked(cell.0, cell.1) {
+                '#'
+            } else {
+                '.'
+            }
+        })
+        .collect()
 }
 
 /// `ROBOVAC_DEBUG_TRACE`: the executive's view every simulated second.
@@ -166,20 +181,6 @@ fn debug_near(sim: &Sim, parts: &dyn MissionParts) {
     use robovac::robot::lidar_map::{FREE_AT, OCCUPIED_AT, PRIOR_WALL};
     let (x, y, _) = sim.pose;
     let (px, py) = ((x * 1000.0) as i32, (y * 1000.0) as i32);
-    let (c0, r0) = sim.world.cell_of(x, y);
-    let twin = |c: i32, r: i32| {
-        if (c, r) == (c0, r0) {
-            'R'
-        } else if sim.world.dark.contains(&(c, r)) {
-            'd'
-        } else if sim.world.glass.contains(&(c, r)) {
-            'g'
-        } else if sim.world.map.is_blocked(c, r) {
-            '#'
-        } else {
-            '.'
-        }
-    };
     for k in (-24..=24).rev() {
         let ev: String = (-24..=24)
             .map(|dx| match parts.evidence_at(px + dx * 50, py + k * 50) {
@@ -189,7 +190,6 @@ fn debug_near(sim: &Sim, parts: &dyn MissionParts) {
                 _ => ' ',
             })
             .collect();
-        let tw: String = (c0 - 24..=c0 + 24).map(|c| twin(c, r0 - k)).collect();
-        eprintln!("   near {ev} | {tw}");
+        eprintln!("   near {ev} | {}", twin_row(sim, k, 24));
     }
 }
