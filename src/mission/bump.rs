@@ -284,7 +284,8 @@ sized_impl!([] {
         }
         let map = &mut *self.p.map;
         let r = self.m.cfg.radius_mm + self.m.cfg.margin_mm;
-        let reach = r / map.res_mm().max(1) as i32 + SHUT_IN_CELLS;
+        // In i64: a divisor of -1 (a huge resolution cast) cannot occur.
+        let reach = (r as i64 / map.res_mm().max(1) as i64) as i32 + SHUT_IN_CELLS;
         let (cx, cy) = map.cell_of(p.0, p.1);
         if map.forget_contacts_near(cx, cy, reach) == 0 {
             return false;
