@@ -38,7 +38,7 @@ const GLOBAL_HEADINGS: i64 = 60;
 /// A kept candidate, 16 bytes: its heading wrapped to ±π in an `i32` of
 /// µrad ([`PoseU`]'s `i64` would make it 24). The whole-map search keeps
 /// [`GLOBAL_TOP`] of them on the stack.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug)]
 struct Cand {
     score: u32,
     x_mm: i32,

@@ -29,21 +29,22 @@
 //!   (the 3790 home, unknown mode, realistic, 1 person, seed 9, 1,476 s:
 //!   pose RMS 40.4 mm; 2.5 mm with the filter). Once a second still maps
 //!   what changes about a robot standing still (a person stepping up).
+//!   In both modes a revolution at a standstill corrects the heading but
+//!   not the position, unless the match fits clearly better than the
+//!   prediction ([`crate::localize::fusion::held_still`]): a person
+//!   walking past must not slide a waiting robot.
 //! - **Unknown mode** rebuilds the coarse levels every
 //!   [`REBUILD_EVERY`] revolutions (the fine level reads the map live).
 
 use super::events::EventKind;
 use super::{Activity, MapMode, Mission, Phase};
-use crate::localize::fusion::Correction;
+use crate::localize::fusion::{held_still, standing_still, Correction};
 use crate::localize::trail::Trail;
 use crate::localize::{PoseU, ScanMatcher};
 use crate::robot::lidar_map::EvidenceMap;
 
 /// Revolutions between coarse-level rebuilds in unknown mode.
 pub const REBUILD_EVERY: u32 = 10;
-/// A revolution is taken at a standstill when the robot moved less than
-/// this (mm, and mrad) during it.
-const STILL: (i32, i32) = (5, 10);
 /// At a standstill, unknown mode maps one revolution in this many (by the
 /// scan count: 1 s at 10 Hz; the module doc).
 pub const STILL_MAP_EVERY: u32 = 10;
@@ -77,7 +78,7 @@ impl Mission {
             mt.trail.note((r.x_mm, r.y_mm));
         }
         let (moved, turned) = self.lidar.scan.motion();
-        let still = moved <= STILL.0 && turned <= STILL.1;
+        let still = standing_still(moved, turned);
         let start_window = prior_only || self.cfg.prior_saved;
         if start_window && !self.start_fixed && matches!(self.phase, Phase::SelfTestScan { .. }) {
             if still {
@@ -106,7 +107,7 @@ impl Mission {
         let mappable = prior_only || (self.loc.mappable() && !filtered);
         match r {
             Ok(c) => {
-                self.apply(c);
+                self.apply(held_still(c, still, self.loc.stats.last_fit_pct));
                 mappable
             }
             Err(_) if self.loc.lost => {
