@@ -524,6 +524,23 @@ fn walls_alone_lose_few_returns() {
     );
 }
 
+/// A mission on the suite map `name` in unknown mode, realistic noise,
+/// `people`, `seed`, cut at `max_time_s`: its report.
+fn unknown_realistic(
+    name: &str,
+    people: usize,
+    seed: u64,
+    max_time_s: f64,
+) -> host_sim::run::mission::MissionReport {
+    use host_sim::run::mission::{run_mission, MissionOptions};
+    use host_sim::sim::robot::Noise;
+    use robovac::mission::MapMode;
+    let map = suite_map(name).unwrap();
+    let mut o = MissionOptions::new(map, MapMode::Unknown, people, Noise::Realistic, seed);
+    o.max_time_s = max_time_s;
+    run_mission(&o, |_, _, _| {}).unwrap().0
+}
+
 /// A person walking beside the robot in unknown mode no longer drags the
 /// pose (issue 10 §2). The real S6 home, 1 person, realistic noise, seed
 /// 1: before `drop_foreground`, a person beside the robot in a corridor
@@ -531,18 +548,7 @@ fn walls_alone_lose_few_returns() {
 /// robot never docked. Checked against the twin's true pose.
 #[test]
 fn a_person_beside_the_robot_does_not_drag_the_pose() {
-    use host_sim::run::mission::{run_mission, MissionOptions};
-    use host_sim::sim::robot::Noise;
-    use robovac::mission::MapMode;
-    let mut o = MissionOptions::new(
-        suite_map("S6").unwrap(),
-        MapMode::Unknown,
-        1,
-        Noise::Realistic,
-        1,
-    );
-    o.max_time_s = 1_450.0;
-    let (rep, _, _) = run_mission(&o, |_, _, _| {}).unwrap();
+    let rep = unknown_realistic("S6", 1, 1, 1_450.0);
     assert!(rep.pose_error_max_mm <= 100.0, "{rep:?}");
     assert!(rep.pose_error_rms_mm <= 30.0, "{rep:?}");
 }
@@ -556,18 +562,7 @@ fn a_person_beside_the_robot_does_not_drag_the_pose() {
 /// Checked against the twin's true pose.
 #[test]
 fn a_person_passing_a_waiting_robot_does_not_slide_it() {
-    use host_sim::run::mission::{run_mission, MissionOptions};
-    use host_sim::sim::robot::Noise;
-    use robovac::mission::MapMode;
-    let mut o = MissionOptions::new(
-        suite_map("office").unwrap(),
-        MapMode::Unknown,
-        3,
-        Noise::Realistic,
-        9,
-    );
-    o.max_time_s = 2_600.0;
-    let (rep, _, _) = run_mission(&o, |_, _, _| {}).unwrap();
+    let rep = unknown_realistic("office", 3, 9, 2_600.0);
     assert!(rep.pose_error_max_mm <= 40.0, "{rep:?}");
     assert!(rep.pose_error_rms_mm <= 15.0, "{rep:?}");
 }
