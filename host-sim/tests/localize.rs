@@ -145,7 +145,7 @@ fn a_large_correction_glides_in_steps() {
         let mut f = Fusion::new();
         for rev in 0..4 {
             b.m.points.set(g, &pts);
-            let (dx, dy, dt) = f.track(&b.m, &b.map, true).unwrap();
+            let (dx, dy, dt) = f.track(&b.m, &b.map, true, false).unwrap();
             assert!(dx.abs() <= fusion::STEP_MM && dy.abs() <= fusion::STEP_MM);
             g = corrected(g, (dx, dy, dt));
             if rev == 0 {
@@ -172,7 +172,7 @@ fn a_turned_pose_is_found_by_the_wide_search_and_not_mapped_meanwhile() {
         let mut doubtful = 0;
         for _ in 0..12 {
             b.m.points.set(g, &pts);
-            if let Ok(c) = f.track(&b.m, &b.map, true) {
+            if let Ok(c) = f.track(&b.m, &b.map, true, false) {
                 g = corrected(g, c);
             }
             doubtful += usize::from(!f.mappable());
@@ -288,7 +288,7 @@ fn hidden(pts: &[(i32, i32)]) -> Vec<(i32, i32)> {
 fn revs(b: &mut Bench, f: &mut Fusion, at: PoseU, scan: &[(i32, i32)], n: usize) {
     for _ in 0..n {
         b.m.points.set(at, scan);
-        let _ = f.track(&b.m, &b.map, true);
+        let _ = f.track(&b.m, &b.map, true, false);
     }
 }
 
@@ -411,7 +411,7 @@ fn a_long_corridor_corrects_across_only() {
     // 12 mm across: within one revolution's step (`STEP_MM`).
     m.points.set(guess(truth, 60, 12, 0), &pts);
     let mut f = Fusion::new();
-    let (dx, dy, _) = f.track(&m, &ev, true).unwrap();
+    let (dx, dy, _) = f.track(&m, &ev, true, false).unwrap();
     assert_eq!(f.stats.partial, 1, "{:?}", f.stats);
     assert!(dx.abs() <= 2, "along the corridor: {dx} mm");
     assert!((dy + 12).abs() <= 6, "across: {dy} mm");

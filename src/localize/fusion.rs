@@ -141,6 +141,8 @@ pub const SLIDE_LOSS_PCT: u32 = 4;
 pub const HEADING_GAIN_PCT: u32 = 5;
 /// A correction beyond this, mm, leaves the pose in doubt: not mapped.
 pub const SETTLED_MM: i32 = 30;
+/// A heading correction beyond this, µrad (1°), leaves the pose in doubt.
+pub const SETTLED_URAD: i64 = 17_453;
 /// A revolution is taken at a standstill when the odometry moved the
 /// robot at most this far (mm) and turned it at most [`STILL_MRAD`]
 /// during it ([`standing_still`]).
@@ -151,8 +153,6 @@ pub const STILL_MRAD: i32 = 10;
 /// better than the prediction for its translation to be applied
 /// ([`held_still`]).
 pub const MOVED_GAIN_PCT: u32 = 10;
-/// A heading correction beyond this, µrad (1°), leaves the pose in doubt.
-pub const SETTLED_URAD: i64 = 17_453;
 /// Doubtful revolutions in a row left out of the map before one is mapped
 /// anyway (3 s).
 pub const MAX_UNMAPPED: u8 = 30;
@@ -251,12 +251,16 @@ impl Fusion {
     }
 
     /// Matches the loaded scan from its reference pose; returns the
-    /// correction to apply now (possibly partial or zero).
+    /// correction to apply now (possibly partial or zero). `still`: the
+    /// revolution was taken at a standstill ([`standing_still`]), which
+    /// holds the position unless the match fits clearly better
+    /// ([`held_still`]).
     pub fn track<const EV: usize, const MW: usize>(
         &mut self,
         m: &ScanMatcher<MW>,
         map: &EvidenceMap<EV>,
         prior_only: bool,
+        still: bool,
     ) -> Result<Correction, MatchError> {
         self.stats.matches += 1;
         self.since_kept = self.since_kept.saturating_add(1);
@@ -301,11 +305,12 @@ impl Fusion {
             STEP_URAD
         };
         out.map(|(dx, dy, dt)| {
-            (
+            let c = (
                 dx.clamp(-STEP_MM, STEP_MM),
                 dy.clamp(-STEP_MM, STEP_MM),
                 dt.clamp(-step_urad, step_urad),
-            )
+            );
+            held_still(c, still, fit.pct.unwrap_or_default())
         })
     }
 

@@ -38,7 +38,7 @@
 
 use super::events::EventKind;
 use super::{Activity, MapMode, Mission, Phase};
-use crate::localize::fusion::{held_still, standing_still, Correction};
+use crate::localize::fusion::{standing_still, Correction};
 use crate::localize::trail::Trail;
 use crate::localize::{PoseU, ScanMatcher};
 use crate::robot::lidar_map::EvidenceMap;
@@ -100,14 +100,14 @@ impl Mission {
             }
             return false;
         }
-        let r = self.loc.track(mt, map, prior_only);
+        let r = self.loc.track(mt, map, prior_only, still);
         // Known mode maps only what the prior lacks (people, a moved
         // chair) beside a prior that stays fixed: nothing drifts into it.
         let filtered = still && !self.counters.scans.is_multiple_of(STILL_MAP_EVERY);
         let mappable = prior_only || (self.loc.mappable() && !filtered);
         match r {
             Ok(c) => {
-                self.apply(held_still(c, still, self.loc.stats.last_fit_pct));
+                self.apply(c);
                 mappable
             }
             Err(_) if self.loc.lost => {
