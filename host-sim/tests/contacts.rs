@@ -23,9 +23,10 @@ use truth::check_truth;
 /// the swept floor out (`localize::trail`); seed 6's was (11 marks) until
 /// unknown mode's lanes kept off walls from 4 mm (18 bumps, none marked);
 /// seed 7's was (19 bumps, 3 marks) until a robot standing still kept its
-/// position (`fusion::held_still`); seed 1's is (3 marks), and the
-/// mission must still clean on and dock. That the marks box it in is not
-/// checked here.
+/// position (`fusion::held_still`); seed 1's was (3 marks) until the guard
+/// counted the nearest map cells (`Mission::cells_free`); seed 2's is
+/// (3 marks), and the mission must still clean on and dock. That the
+/// marks box it in is not checked here.
 #[test]
 fn marks_that_box_the_robot_in_are_forgotten() {
     let o = MissionOptions::new(
@@ -33,7 +34,7 @@ fn marks_that_box_the_robot_in_are_forgotten() {
         MapMode::Unknown,
         3,
         Noise::Realistic,
-        1,
+        2,
     );
     let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
     check_truth(&o, &rep, &t);

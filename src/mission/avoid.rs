@@ -135,7 +135,7 @@ sized_impl!([] {
     /// [`segment_clear`] of at most 800 mm.
     fn leg_blocked(&self, here: (i32, i32), seg: &SubPath) -> bool {
         let cfg = &self.m.cfg;
-        if cfg.mode != MapMode::Unknown {
+        if cfg.mode != MapMode::Unknown || self.m.near_dock(here) {
             return false;
         }
         let foot = foot_on_segment(seg.from, seg.to, here);

@@ -5,6 +5,19 @@ use super::{in_corridor, Mission};
 use crate::nav::follow::SubPath;
 
 impl Mission {
+    /// For diagnosis: the blocking map cells the guard and keep-off count
+    /// now (south-west corner, side; mm).
+    pub fn near_cells(&self) -> impl Iterator<Item = ((i32, i32), i32)> + '_ {
+        self.near_walls.squares()
+    }
+
+    /// For diagnosis: the guard's free distance to those cells (mm) ahead
+    /// and behind, at the present heading.
+    pub fn cells_free_now(&self) -> (i32, i32) {
+        let f = [crate::nav::geometry::RobotFrame::of(&self.drive.odom.pose()); 2];
+        (self.cells_free(&f, true), self.cells_free(&f, false))
+    }
+
     /// For diagnosis: the activity (following, avoiding, backing off) and
     /// the guard's free distances (mapped, unmapped; mm) for the command
     /// sent last, and that command (mm/s, mrad/s).

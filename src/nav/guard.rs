@@ -108,6 +108,13 @@ impl FreeDistance {
     pub fn result(&self) -> i32 {
         self.second as i32
     }
+
+    /// The free distance to the nearest point, `i32::MAX` when none is in
+    /// the way: for points that are certain (a blocking map cell's
+    /// outline), where one is enough.
+    pub fn nearest(&self) -> i32 {
+        self.first as i32
+    }
 }
 
 /// The free distance for the points the map explains, judged at full

@@ -42,6 +42,9 @@ use heapless::Vec;
 /// Blocking cells kept for the control loop: the nearest this many.
 pub const NEAR_CELLS: usize = 4;
 
+/// Steps along each side of a cell in [`NearWalls::outline_points`].
+pub const OUTLINE_STEPS: i32 = 10;
+
 /// Tuning.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -111,6 +114,22 @@ impl NearWalls {
     /// The cells' squares, nearest first: (south-west corner, side), mm.
     pub fn squares(&self) -> impl Iterator<Item = ((i32, i32), i32)> + '_ {
         self.corners.iter().map(move |&c| (c, self.res_mm))
+    }
+
+    /// Points on the squares' outlines (world mm), [`OUTLINE_STEPS`] + 1
+    /// along each side (corners included). The guard counts them as wall
+    /// points: a corner beside the path that no beam of the last
+    /// revolution struck is still in the way. The free distance they
+    /// give is within the integer frame's rounding of the true first
+    /// contact (property-tested; the guard keeps a 20 mm reserve).
+    pub fn outline_points(&self) -> impl Iterator<Item = (i32, i32)> + '_ {
+        self.squares().flat_map(|((x0, y0), side)| {
+            (0..OUTLINE_STEPS).flat_map(move |i| {
+                let t = side * i / OUTLINE_STEPS;
+                let (x1, y1) = (x0.saturating_add(side), y0.saturating_add(side));
+                [(x0 + t, y0), (x1, y0 + t), (x1 - t, y1), (x0, y1 - t)]
+            })
+        })
     }
 }
 

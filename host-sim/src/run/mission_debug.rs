@@ -167,6 +167,8 @@ pub fn debug_fine(sim: &Sim, mission: &Mission, parts: &dyn MissionParts) {
         c.guard_ticks,
         mission.current_subpath().map(|s| s.0)
     );
+    let cells: Vec<_> = mission.near_cells().collect();
+    eprintln!("   cells {cells:?} free {:?}", mission.cells_free_now());
     if std::env::var_os("ROBOVAC_DEBUG_HITS").is_some() {
         let hits: Vec<_> = mission.hits_near(260).collect();
         eprintln!("   hits {hits:?}");
