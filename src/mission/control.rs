@@ -444,11 +444,7 @@ impl Mission {
     /// every few tenths of a second, turning between the leg's two ends
     /// until the mission ended 77 mm off. The lidar's points still guard.
     pub(super) fn near_dock(&self, here: (i32, i32)) -> bool {
-        let (dx, dy) = (
-            here.0 as i64 - self.start.x_mm as i64,
-            here.1 as i64 - self.start.y_mm as i64,
-        );
-        self.phase == Phase::Return && dx.abs() <= DOCK_APPROACH_MM && dy.abs() <= DOCK_APPROACH_MM
+        self.phase == Phase::Return && within_square(&self.start, here, DOCK_APPROACH_MM)
     }
 
     /// Something the lidar sees explains a stall: a point within 60 mm of

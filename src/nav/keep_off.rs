@@ -124,9 +124,9 @@ impl NearWalls {
     /// contact (property-tested; the guard keeps a 20 mm reserve).
     pub fn outline_points(&self) -> impl Iterator<Item = (i32, i32)> + '_ {
         self.squares().flat_map(|((x0, y0), side)| {
+            let (x1, y1) = (x0.saturating_add(side), y0.saturating_add(side));
             (0..OUTLINE_STEPS).flat_map(move |i| {
                 let t = side * i / OUTLINE_STEPS;
-                let (x1, y1) = (x0.saturating_add(side), y0.saturating_add(side));
                 [(x0 + t, y0), (x1, y0 + t), (x1 - t, y1), (x0, y1 - t)]
             })
         })
