@@ -73,7 +73,8 @@
 //! relocalises over the whole map ([`super::correlative::global`]). The
 //! odometry has its say there too: a place elsewhere must fit
 //! [`RELOC_OVER_PREDICTION_PCT`] % more of the scan than the odometry's
-//! own pose, refined; otherwise, when that pose fits at least
+//! own pose, refined, and at least [`RELOC_ELSEWHERE_PCT`] % of it (a
+//! true kidnap's place fits 84–99 %); otherwise, when that pose fits at least
 //! [`KEEP_PREDICTION_PCT`] %, the alarm was false (people hid the walls)
 //! and tracking resumes from it (once in [`KEEP_AGAIN_AFTER`]
 //! revolutions). When the whole map's best place lies at the odometry's
@@ -93,7 +94,7 @@ use crate::robot::lidar_map::EvidenceMap;
 
 mod relocalise;
 pub use relocalise::{
-    KEEP_AGAIN_AFTER, KEEP_PREDICTION_PCT, RELOC_INLIER_PCT, RELOC_MARGIN_PCT,
+    KEEP_AGAIN_AFTER, KEEP_PREDICTION_PCT, RELOC_ELSEWHERE_PCT, RELOC_INLIER_PCT, RELOC_MARGIN_PCT,
     RELOC_OVER_PREDICTION_PCT,
 };
 
@@ -199,6 +200,9 @@ pub struct LocStats {
     /// The last match: share of points on walls at the prediction and
     /// after refinement, %.
     pub last_fit_pct: (u32, u32),
+    /// The last whole-map relocalisation: share of points the odometry's
+    /// own pose (refined) and the whole map's best fit, %.
+    pub last_reloc_pct: (u8, u8),
 }
 
 /// A correction to apply: (Δx mm, Δy mm, Δθ µrad).
@@ -239,6 +243,7 @@ impl Fusion {
                 reloc_failed: 0,
                 rebuilds: 0,
                 last_fit_pct: (0, 0),
+                last_reloc_pct: (0, 0),
             },
             poor_in_row: 0,
             doubt_in_row: 0,
