@@ -273,6 +273,18 @@ fn contacts_are_forgotten_and_the_lidar_judges_them_again() {
     assert_eq!(m.state(b.0, b.1), CellState::Occupied);
 }
 
+type JambMap = EvidenceMap<{ evidence_bytes(20 * 20) }>;
+
+/// A 1 × 1 m map at 5 cm with one occupied cell: x 500..550 mm, y
+/// 500..550 mm.
+fn jamb_map() -> Box<JambMap> {
+    let mut m: Box<JambMap> = Box::new(EvidenceMap::new());
+    m.reset(20, 20, 50).unwrap();
+    let (cx, cy) = m.cell_of(520, 520);
+    m.set_state(cx, cy, CellState::Occupied);
+    m
+}
+
 /// The wall point a mapped lidar hit stands for (the guard judges it at
 /// full width instead of the hit): a point of the nearest occupied cell's
 /// square, the one nearest the robot, whatever the range noise on the
@@ -281,13 +293,10 @@ fn contacts_are_forgotten_and_the_lidar_judges_them_again() {
 #[test]
 fn a_mapped_hit_stands_for_the_nearest_wall_point_of_its_cell() {
     use robovac::nav::geometry::wall_offset;
-    let mut m: Box<EvidenceMap<{ evidence_bytes(20 * 20) }>> = Box::new(EvidenceMap::new());
-    m.reset(20, 20, 50).unwrap();
     // One occupied cell: x 500..550 mm, y 500..550 mm (a door jamb's corner).
-    let (cx, cy) = m.cell_of(520, 520);
-    m.set_state(cx, cy, CellState::Occupied);
+    let m = jamb_map();
     let snap = |q: (i32, i32), from: (i32, i32)| {
-        wall_offset(&*m, q, from, 25).map(|[dx, dy]| (q.0 + dx as i32, q.1 + dy as i32))
+        wall_offset(&*m, q, from, 25, false).map(|[dx, dy]| (q.0 + dx as i32, q.1 + dy as i32))
     };
     // Hits on the west face, 10 mm short and 10 mm deep (range noise),
     // seen from the south-west: both stand for the corner (500, 500).
@@ -303,13 +312,40 @@ fn a_mapped_hit_stands_for_the_nearest_wall_point_of_its_cell() {
     assert_eq!(snap((480, 520), (300, 300)), Some((500, 500)));
     assert_eq!(snap((460, 520), (300, 300)), None);
     // An ideal sensor (no tolerance): only a hit on the square stands for it.
-    assert_eq!(wall_offset(&*m, (500, 520), (300, 300), 0), Some([0, -20]));
-    assert_eq!(wall_offset(&*m, (499, 520), (300, 300), 0), None);
+    assert_eq!(
+        wall_offset(&*m, (500, 520), (300, 300), 0, false),
+        Some([0, -20])
+    );
+    assert_eq!(wall_offset(&*m, (499, 520), (300, 300), 0, false), None);
     // No occupied cell within one cell of the hit: nothing to stand for.
     assert_eq!(snap((390, 390), (300, 300)), None);
     assert_eq!(snap((700, 700), (300, 300)), None);
     // Off the map (a hit beyond its edge) reads unknown, never occupied.
     assert_eq!(snap((-60, 2000), (300, 300)), None);
+}
+
+/// Known mode (`fixed_only`): a hit stands for a fixed wall's square (the
+/// prior, frozen; a bumper's mark) but not for a cell mapped beside the
+/// prior (a person, mapped late and a cell coarse): that hit stands for
+/// itself, so the guard sees where the person truly is.
+#[test]
+fn in_known_mode_only_fixed_walls_are_stood_for() {
+    use robovac::nav::geometry::wall_offset;
+    let mut m = jamb_map();
+    m.freeze_prior();
+    // A person mapped after the freeze, 0.3 m east of the wall cell.
+    let (px, py) = m.cell_of(820, 520);
+    m.set_state(px, py, CellState::Occupied);
+    let at = |m: &JambMap, q: (i32, i32), fixed| wall_offset(m, q, (300, 300), 25, fixed);
+    // The prior wall: stood for in both modes.
+    assert_eq!(at(&m, (490, 510), true), Some([10, -10]));
+    assert_eq!(at(&m, (490, 510), false), Some([10, -10]));
+    // The person's cell: only when every occupied cell counts.
+    assert!(at(&m, (790, 510), false).is_some());
+    assert_eq!(at(&m, (790, 510), true), None);
+    // A bumper's mark is fixed, as the prior is.
+    m.mark_contact(820, 520);
+    assert!(at(&m, (790, 510), true).is_some());
 }
 
 /// The edge pass's "sure to block" test counts the map's outside as

@@ -93,7 +93,7 @@ fn the_guard_sees_a_corner_through_the_wall_points_of_its_hits() {
     let walls: Vec<(i32, i32)> = hits
         .iter()
         .filter_map(|&q| {
-            let [dx, dy] = wall_offset(&*map, q, robot, 25)?;
+            let [dx, dy] = wall_offset(&*map, q, robot, 25, false)?;
             Some(local((q.0 + dx as i32, q.1 + dy as i32)))
         })
         .collect();
@@ -124,7 +124,7 @@ fn the_guard_judges_hits_without_a_wall_point_at_full_width() {
         map.set_state(cx, cy, CellState::Unknown);
     }
     for &q in &hits {
-        assert!(explained(&*map, q) && wall_offset(&*map, q, robot, 25).is_none());
+        assert!(explained(&*map, q) && wall_offset(&*map, q, robot, 25, false).is_none());
     }
     let local: Vec<(i32, i32)> = hits
         .iter()

@@ -108,6 +108,7 @@ impl Mission {
             let tol_mm = self.cfg.guard.mapped_slack_mm.max(0) * 5 / 2;
             let ring = &mut self.lidar.ring;
             let known = &*map;
+            let fixed_only = self.cfg.mode == MapMode::Known;
             beams(
                 &pose,
                 &self.cfg.mount,
@@ -125,7 +126,7 @@ impl Mission {
                             y: hy,
                             mapped,
                             wall: mapped
-                                .then(|| wall_offset(known, q, from, tol_mm))
+                                .then(|| wall_offset(known, q, from, tol_mm, fixed_only))
                                 .flatten(),
                         });
                     }
