@@ -126,6 +126,7 @@ pub fn explained<const EV: usize>(map: &EvidenceMap<EV>, q: (i32, i32)) -> bool 
 /// exactly, when the pose is right; the one nearest the robot is the
 /// most cautious choice, and it carries no range noise, so the guard
 /// judges it at full width instead of the hit.
+/// Within one cell the offset fits an `i8` on each axis (≤ 2 cells).
 ///
 /// `fixed_only` (known mode): only fixed walls ([`PRIOR_WALL`]: the prior
 /// map, the bumper's marks) are stood for. What known mode maps beside
@@ -135,7 +136,6 @@ pub fn explained<const EV: usize>(map: &EvidenceMap<EV>, q: (i32, i32)) -> bool 
 /// body drove into a person standing beside its lane (the z10 home,
 /// known mode, realistic, 1 person, seed 2, 3,368 s). Such hits stand
 /// for themselves.
-/// Within one cell the offset fits an `i8` on each axis (≤ 2 cells).
 pub fn wall_offset<const EV: usize>(
     map: &EvidenceMap<EV>,
     q: (i32, i32),
@@ -149,8 +149,8 @@ pub fn wall_offset<const EV: usize>(
     for dy in -1..=1 {
         for dx in -1..=1 {
             let (x, y) = (cx + dx, cy + dy);
-            let fixed = map.evidence(x, y) == PRIOR_WALL;
-            if map.state(x, y) != CellState::Occupied || (fixed_only && !fixed) {
+            let movable = fixed_only && map.evidence(x, y) != PRIOR_WALL;
+            if movable || map.state(x, y) != CellState::Occupied {
                 continue;
             }
             // The square [x0, x0 + r] × [y0, y0 + r], world mm.
