@@ -35,10 +35,12 @@ fn unknown_home(name: &str, seed: u64) -> (MissionReport, MissionTrace) {
 /// full width (stop 59) seed 2 no longer leaves a room; seed 18 did
 /// (85.8 % covered with the late retry switched off, 99.5 % with it) until
 /// a robot standing still kept its position (`fusion::held_still`); seed
-/// 20 does (one retry, 98.99 %).
+/// 20 did (one retry, 98.99 %) until only far points conditioned a match
+/// in unknown mode (`localize::track`); seed 1 does (one retry, 99.09 %;
+/// seeds 1 and 3-9 all retry once).
 #[test]
 fn a_room_found_shut_while_someone_stood_in_its_way_is_cleaned_later() {
-    let (rep, _) = unknown_home("S6", 20);
+    let (rep, _) = unknown_home("S6", 1);
     assert!(rep.counters.abandoned_retries > 0, "{:?}", rep.counters);
     assert!(rep.coverage >= 0.95, "coverage {:.4}", rep.coverage);
 }
