@@ -185,7 +185,7 @@ mod run {
         );
         m.points.set(off(truth, 30, -25, -209_440), pts);
         let steps = fusion::WIDE_HEADING_STEPS;
-        let (r, insn) = meter.measure(|| fusion::track_within(m, map, true, steps));
+        let (r, insn) = meter.measure(|| fusion::track_within(m, map, true, steps, true));
         let Ok((mt, _)) = r else { fail("wide match") };
         let (d, dt) = check(mt.pose, truth, "wide match");
         defmt::println!(

@@ -259,13 +259,17 @@ impl Fusion {
     /// correction to apply now (possibly partial or zero). `still`: the
     /// revolution was taken at a standstill ([`standing_still`]), which
     /// holds the position unless the match fits clearly better
-    /// ([`held_still`]).
+    /// ([`held_still`]). `translated`: the odometry moved the robot more
+    /// than [`STILL_MM`] during the revolution (see
+    /// [`track_within`]: a match against the map being written is judged
+    /// by its far points only then).
     pub fn track<const EV: usize, const MW: usize>(
         &mut self,
         m: &ScanMatcher<MW>,
         map: &EvidenceMap<EV>,
         prior_only: bool,
         still: bool,
+        translated: bool,
     ) -> Result<Correction, MatchError> {
         self.stats.matches += 1;
         self.since_kept = self.since_kept.saturating_add(1);
@@ -274,7 +278,7 @@ impl Fusion {
         } else {
             HEADING_STEPS
         };
-        let r = track_within(m, map, prior_only, steps);
+        let r = track_within(m, map, prior_only, steps, translated);
         let fit = Fit::of(&r, m.points.as_slice().len() as u32);
         if let Some(pct) = fit.pct {
             self.stats.last_fit_pct = pct;

@@ -38,7 +38,7 @@
 
 use super::events::EventKind;
 use super::{Activity, MapMode, Mission, Phase};
-use crate::localize::fusion::{standing_still, Correction};
+use crate::localize::fusion::{standing_still, Correction, STILL_MM};
 use crate::localize::trail::Trail;
 use crate::localize::{PoseU, ScanMatcher};
 use crate::robot::lidar_map::EvidenceMap;
@@ -100,7 +100,7 @@ impl Mission {
             }
             return false;
         }
-        let r = self.loc.track(mt, map, prior_only, still);
+        let r = self.loc.track(mt, map, prior_only, still, moved > STILL_MM);
         // Known mode maps only what the prior lacks (people, a moved
         // chair) beside a prior that stays fixed: nothing drifts into it.
         let filtered = still && !self.counters.scans.is_multiple_of(STILL_MAP_EVERY);

@@ -148,7 +148,7 @@ fn prediction_holds<const EV: usize, const MW: usize>(
     best: &Match,
 ) -> (Option<(PoseU, bool)>, u32) {
     let n = m.points.as_slice().len() as u32;
-    let Ok((here, _)) = track_within(m, map, prior_only, HEADING_STEPS) else {
+    let Ok((here, _)) = track_within(m, map, prior_only, HEADING_STEPS, true) else {
         return (None, 0);
     };
     let near = near(&best.pose, &here.pose);
