@@ -290,11 +290,7 @@ sized_impl!([] {
         if map.forget_contacts_near(cx, cy, reach) == 0 {
             return false;
         }
-        if let Some(changed) = self.p.map.take_changed() {
-            let res = self.p.map.res_mm();
-            self.m.note_map_change(res, changed);
-            self.m.map_dirty = true;
-        }
+        self.note_marks_changed();
         true
     }
 
@@ -315,12 +311,18 @@ sized_impl!([] {
                 cspace::stamp_cell(self.p.fine, self.p.map.res_mm(), r, cell);
             }
         }
+        self.note_marks_changed();
+        marked
+    }
+
+    /// Notes the evidence map's changed box (marks made or forgotten) for
+    /// the configuration space and the planners, and flags the map dirty.
+    fn note_marks_changed(&mut self) {
         if let Some(changed) = self.p.map.take_changed() {
             let res = self.p.map.res_mm();
             self.m.note_map_change(res, changed);
             self.m.map_dirty = true;
         }
-        marked
     }
 });
 
