@@ -67,9 +67,19 @@ sized_impl!([] {
             }
             Activity::Avoid => {
                 if total < 60 {
+                    // Close enough: the sub-path is done. The next one
+                    // starts up to 60 mm from here (z10, unknown,
+                    // realistic, seeds 3 and 7: followed from 32 mm beside
+                    // its start, an edge chord ran the body onto a
+                    // diagonal wall's corner).
                     m.queue.pop();
-                    m.activity = Activity::Follow;
-                    m.subpath_since_us = now_us;
+                    if let Some((next, _)) = m.queue.front() {
+                        let to = next.to;
+                        self.rejoin(now_us, pose, to);
+                    } else {
+                        m.activity = Activity::Follow;
+                        m.subpath_since_us = now_us;
+                    }
                     return;
                 }
                 // Rejoin once nothing unmapped lies in the corridor and the
@@ -80,19 +90,8 @@ sized_impl!([] {
                     .any(|q| in_corridor(here, ahead, q, reach));
                 let free = m.free_toward(here, seg.to);
                 if !unexplained && free >= 250.min(total) {
-                    m.activity = Activity::Follow;
-                    m.subpath_since_us = now_us;
-                    // Rejoin straight when the map allows it, else by a
-                    // fresh path from here.
-                    let r = m.cfg.sweep_mm();
-                    if segment_clear(self.p.map, here, seg.to, r) {
-                        m.queue.replace_front(SubPath {
-                            from: here,
-                            to: seg.to,
-                        });
-                    } else {
-                        self.replan_leg(now_us, pose);
-                    }
+                    let to = seg.to;
+                    self.rejoin(now_us, pose, to);
                     return;
                 }
                 let waited = now_us.saturating_sub(m.avoid_since_us);
@@ -108,6 +107,21 @@ sized_impl!([] {
                 }
                 self.local_step(now_us, pose, seg.to);
             }
+        }
+    }
+
+    /// Ends avoidance toward the front sub-path's end `to`: straight from
+    /// here when the map allows the body's sweep there, else by a fresh
+    /// path from here ([`Self::replan_leg`]).
+    fn rejoin(&mut self, now_us: u64, pose: &Pose, to: (i32, i32)) {
+        let m = &mut *self.m;
+        m.activity = Activity::Follow;
+        m.subpath_since_us = now_us;
+        let here = (pose.x_mm, pose.y_mm);
+        if segment_clear(self.p.map, here, to, m.cfg.sweep_mm()) {
+            m.queue.replace_front(SubPath { from: here, to });
+        } else {
+            self.replan_leg(now_us, pose);
         }
     }
 
