@@ -232,6 +232,9 @@ pub struct Mission {
     subpath_since_us: u64,
     retries: u8,
     guard_block_since: Option<u64>,
+    /// Since when the robot has not driven (no linear speed commanded;
+    /// turning in place counts as standing): [`Mission::start_free`].
+    still_since_us: Option<u64>,
     /// Where the move the guard last held (and the leg was planned again
     /// for) led, world mm, and how many times in a row it was held.
     held_to: Option<((i32, i32), u8)>,
@@ -356,6 +359,7 @@ impl Mission {
             subpath_since_us: 0,
             retries: 0,
             guard_block_since: None,
+            still_since_us: None,
             held_to: None,
             bumper: Bumper::RELEASED,
             avoid_since_us: 0,
