@@ -127,6 +127,7 @@ mod progress;
 mod recover;
 mod rooms;
 mod route;
+mod start_check;
 
 pub mod config;
 pub mod events;
