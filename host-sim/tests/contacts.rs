@@ -204,10 +204,25 @@ fn a_robot_shut_in_by_its_own_marks_forgets_them() {
 /// hits at those squares' face (`Hit::wall_point`): 41 mm free where 14
 /// mm were. As the person stepped off, the robot drove into them at
 /// 2,988 s. Now a start from rest in unknown mode takes the hits ahead as
-/// measured (`Mission::start_free` in `src/mission/control.rs`), and the
+/// measured (`Mission::start_free` in `src/mission/start_check.rs`), and the
 /// robot waits. `check_truth` fails on a collision of the robot's doing.
 #[test]
 fn a_person_written_into_the_map_is_judged_by_their_hits() {
     let rep = unknown_mission("z10", Noise::Realistic, 4, 3_000.0);
     assert!(rep.coverage > 0.8, "coverage {:.4}", rep.coverage);
+}
+
+/// The l10su home, unknown mode, harsh noise, 1 person, seed 5. The robot
+/// stalled against a glass pane it cannot see and stalled again backing
+/// off, so both wheels' stall marks stayed under its body; the guard held
+/// every leg out (each crossed a mark), the leg was planned again the
+/// same, and the way home failed (`NoWayHome`, 97.7 %, on 5cab4e4). Now
+/// the guard leaves out cells under the body (`UNDER_BODY_MM` in
+/// `src/mission/control.rs`), and a robot it stopped no longer turns for
+/// keep-off's push (`push_at_speed`).
+#[test]
+fn marks_left_under_the_body_do_not_hold_it() {
+    let rep = harsh_unknown("l10su", 5, 21_600.0);
+    assert!(rep.coverage > 0.95, "coverage {:.4}", rep.coverage);
+    assert!(rep.docked, "{rep:?}");
 }

@@ -4,7 +4,9 @@
 //! and limits.
 
 use proptest::prelude::*;
-use robovac::nav::keep_off::{intrusions, steer, KeepOffParams, NearWalls, NEAR_CELLS};
+use robovac::nav::keep_off::{
+    intrusions, push_at_speed, steer, KeepOffParams, NearWalls, NEAR_CELLS,
+};
 use robovac::robot::lidar_map::{CellState, EvidenceMap};
 use robovac::robot::odometry::Pose;
 
@@ -293,4 +295,49 @@ proptest! {
             ),
         }
     }
+}
+
+proptest! {
+    /// `outline_points_beside` leaves out exactly the squares nearer than
+    /// `under` to `here` (against the f64 distance; cases with a square
+    /// within 1 mm of the edge are skipped) and keeps the others'
+    /// outlines whole.
+    #[test]
+    fn outline_points_beside_leave_out_the_squares_under_the_body(
+        cells in proptest::collection::vec((20i32..44, 20i32..44), 1..6),
+        dx in -400i32..400, dy in -400i32..400, under in 0i64..200,
+    ) {
+        let map = map_with(&cells);
+        let here = (1600 + dx, 1600 + dy);
+        let near = NearWalls::gather(&map, here, 1000);
+        let per_square = near.outline_points().count() / near.squares().count().max(1);
+        let kept: Vec<_> = near.outline_points_beside(here, under).collect();
+        let mut want = 0;
+        for (c, s) in near.squares() {
+            let d = dist_to_square((here.0 as f64, here.1 as f64), c, s);
+            prop_assume!((d - under as f64).abs() > 1.0);
+            if d > under as f64 {
+                want += per_square;
+                let (x1, y1) = (c.0 + s, c.1 + s);
+                for q in [c, (x1, c.1), (x1, y1), (c.0, y1)] {
+                    prop_assert!(kept.contains(&q), "square {c:?} at {d:.1} mm lost {q:?}");
+                }
+            }
+        }
+        prop_assert_eq!(kept.len(), want, "under {}", under);
+    }
+}
+
+/// Keep-off's push stays in the turn rate of a robot that moves, even
+/// slowed by the guard, and leaves that of one the guard stopped.
+#[test]
+fn a_robot_the_guard_stopped_does_not_turn_for_the_push() {
+    // Following: w -255 from the follower, +605 from the push.
+    assert_eq!(push_at_speed(350, 605, 60, 0), -255);
+    assert_eq!(push_at_speed(350, 605, 60, 30), 350);
+    assert_eq!(push_at_speed(350, 605, 60, 60), 350);
+    // No push, or a robot not asked to move forward: unchanged.
+    assert_eq!(push_at_speed(350, 0, 60, 0), 350);
+    assert_eq!(push_at_speed(350, 605, 0, 0), 350);
+    assert_eq!(push_at_speed(350, 605, -100, 0), 350);
 }

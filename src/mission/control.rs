@@ -161,9 +161,12 @@ impl Mission {
         if self.bumped(now_us, &s.pose) {
             return MotorCmd::Brake;
         }
-        let (v, w) = self.motion(now_us, &s.pose);
-        let (v, w) = self.escape(&s.pose, v, w);
+        let ((v0, w0), push) = self.motion(now_us, &s.pose);
+        let (v, w) = self.escape(&s.pose, v0, w0);
+        let push = if (v, w) == (v0, w0) { push } else { 0 };
+        let v_wanted = v;
         let v = self.guard(now_us, &s.pose, v, w);
+        let w = keep_off::push_at_speed(w, push, v_wanted, v);
         let (dl, dr) = self.drive.wheels.step(
             v,
             w,
@@ -186,26 +189,28 @@ impl Mission {
         MotorCmd::Duty(dl, dr)
     }
 
-    /// The velocity wanted now, before the guard.
-    fn motion(&mut self, now_us: u64, pose: &Pose) -> (i32, i32) {
+    /// The velocity wanted now, before the guard, and the part of its
+    /// turn rate that is keep-off's push away from walls (0 unless
+    /// following; [`keep_off::push_at_speed`]).
+    fn motion(&mut self, now_us: u64, pose: &Pose) -> ((i32, i32), i32) {
         match self.phase {
-            Phase::SelfTestWheels { .. } => return (0, 800),
-            Phase::Align => return self.align(now_us, pose),
+            Phase::SelfTestWheels { .. } => return ((0, 800), 0),
+            Phase::Align => return (self.align(now_us, pose), 0),
             p if p.driving() => {}
-            _ => return (0, 0),
+            _ => return ((0, 0), 0),
         }
         match self.activity {
             Activity::BackOff { until_us } => {
                 if now_us < until_us {
-                    return (-100, 0);
+                    return ((-100, 0), 0);
                 }
                 self.activity = Activity::Follow;
                 if self.retries > self.cfg.stall_retries {
                     self.skip_front(now_us, true);
                 }
-                (0, 0)
+                ((0, 0), 0)
             }
-            Activity::Avoid => self.dwa_cmd,
+            Activity::Avoid => (self.dwa_cmd, 0),
             Activity::Follow => {
                 let (cmd, cleaning) = self.follow_front(now_us, pose);
                 let k = if cleaning {
@@ -213,7 +218,8 @@ impl Mission {
                 } else {
                     &self.cfg.keep_off_transit
                 };
-                keep_off::steer(k, &self.near_walls, pose, self.cfg.radius_mm, cmd)
+                let (v, w) = keep_off::steer(k, &self.near_walls, pose, self.cfg.radius_mm, cmd);
+                ((v, w), w.saturating_sub(cmd.1))
             }
         }
     }
@@ -422,7 +428,7 @@ impl Mission {
         let cells = if self.near_dock((pose.x_mm, pose.y_mm)) {
             i32::MAX
         } else {
-            self.cells_free(&frames, fwd)
+            self.cells_free((pose.x_mm, pose.y_mm), &frames, fwd)
         };
         let [m0, m1] = &mapped;
         let [u0, u1] = &moving;
@@ -433,15 +439,20 @@ impl Mission {
     }
 
     /// The free distance to the outlines of the nearest blocking map
-    /// cells ([`NearWalls::outline_points`]), the nearer of the two frames'.
-    pub(super) fn cells_free(&self, frames: &[RobotFrame; 2], fwd: bool) -> i32 {
+    /// cells ([`NearWalls::outline_points`]), the nearer of the two frames',
+    /// leaving out the cells under the body (`here`: its centre), more than
+    /// [`UNDER_BODY_MM`] inside its rim: the body stands where they say
+    /// something is, so the mark is wrong or what it marks lies flat under
+    /// the robot, and it cannot keep the body off it by stopping.
+    pub(super) fn cells_free(&self, here: (i32, i32), frames: &[RobotFrame; 2], fwd: bool) -> i32 {
         // A blocking cell is certain: its outline's nearest point decides
         // (the ring's wall points need two hits). At the body's own
         // radius, not the guard's: the plans pass walls 10 mm off, and a
         // guard 2 mm wider stopped bodies a few mm off their line at door
         // jambs (coverage lost).
         let mut cells = [FreeDistance::new(self.cfg.radius_mm, fwd); 2];
-        for q in self.near_walls.outline_points() {
+        let under = (self.cfg.radius_mm - UNDER_BODY_MM).max(0) as i64;
+        for q in self.near_walls.outline_points_beside(here, under) {
             for (f, c) in frames.iter().zip(cells.iter_mut()) {
                 c.push(f.to_robot(q));
             }
@@ -511,6 +522,19 @@ impl Mission {
         self.cmd = (0, 0);
     }
 }
+
+/// How far inside the body's rim a blocking map cell lies (mm) before the
+/// guard leaves it out ([`Mission::cells_free`]). A bumper's mark is made
+/// half a cell outside the rim (its square reaches at most about 10 mm
+/// in); a wheel's stall mark is made under the wheel (about 60 mm in), and
+/// the back-off carries the body off it. Why: l10su (unknown, harsh, 1
+/// person, seed 5, t = 1,296 s) stalled against a glass pane it cannot
+/// see, and stalled again backing off (wedged: no back-off then, the
+/// follower turns in place): both wheels' marks stayed under the body, 68
+/// and 95 mm from its centre. Every leg out crossed one, the guard held
+/// it (free distance 0), the leg was planned again the same, for 1,400 s,
+/// and the way home failed (`NoWayHome`).
+pub(super) const UNDER_BODY_MM: i32 = 40;
 
 /// The pose a robot turning at `w` mrad/s will have in a quarter second:
 /// the guard checks this heading beside the present one (the arc's

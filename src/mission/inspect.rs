@@ -14,8 +14,13 @@ impl Mission {
     /// For diagnosis: the guard's free distance to those cells (mm) ahead
     /// and behind, at the present heading.
     pub fn cells_free_now(&self) -> (i32, i32) {
-        let f = [crate::nav::geometry::RobotFrame::of(&self.drive.odom.pose()); 2];
-        (self.cells_free(&f, true), self.cells_free(&f, false))
+        let pose = self.drive.odom.pose();
+        let f = [crate::nav::geometry::RobotFrame::of(&pose); 2];
+        let here = (pose.x_mm, pose.y_mm);
+        (
+            self.cells_free(here, &f, true),
+            self.cells_free(here, &f, false),
+        )
     }
 
     /// For diagnosis: the activity (following, avoiding, backing off) and
