@@ -218,8 +218,7 @@ fn a_person_written_into_the_map_is_judged_by_their_hits() {
 /// every leg out (each crossed a mark), the leg was planned again the
 /// same, and the way home failed (`NoWayHome`, 97.7 %, on 5cab4e4). Now
 /// the guard leaves out cells under the body (`UNDER_BODY_MM` in
-/// `src/mission/control.rs`), and a robot it stopped no longer turns for
-/// keep-off's push (`push_at_speed`).
+/// `src/mission/control.rs`): docked, 96.9 %.
 #[test]
 fn marks_left_under_the_body_do_not_hold_it() {
     let rep = harsh_unknown("l10su", 5, 21_600.0);

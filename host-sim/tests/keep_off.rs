@@ -327,17 +327,3 @@ proptest! {
         prop_assert_eq!(kept.len(), want, "under {}", under);
     }
 }
-
-/// Keep-off's push stays in the turn rate of a robot that moves, even
-/// slowed by the guard, and leaves that of one the guard stopped.
-#[test]
-fn a_robot_the_guard_stopped_does_not_turn_for_the_push() {
-    // Following: w -255 from the follower, +605 from the push.
-    assert_eq!(push_at_speed(350, 605, 60, 0), -255);
-    assert_eq!(push_at_speed(350, 605, 60, 30), 350);
-    assert_eq!(push_at_speed(350, 605, 60, 60), 350);
-    // No push, or a robot not asked to move forward: unchanged.
-    assert_eq!(push_at_speed(350, 0, 60, 0), 350);
-    assert_eq!(push_at_speed(350, 605, 0, 0), 350);
-    assert_eq!(push_at_speed(350, 605, -100, 0), 350);
-}

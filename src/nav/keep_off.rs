@@ -218,23 +218,3 @@ pub fn steer(
     };
     (v, w.saturating_add(add))
 }
-
-/// The turn rate `w` without the `push` [`steer`] added to it when the
-/// guard stopped a robot that wanted `v_wanted` (`v_allowed` 0): the push
-/// bends a moving robot's path away from a wall beside it, and a robot
-/// that cannot move only turns for it. Why: l10su (unknown, harsh, 1
-/// person, seed 5, from t = 2,843 s) stood held by the guard beside a
-/// wall. Each period the follower asked for speed, the push (+605
-/// mrad/s) turned the robot away from its sub-path; past the
-/// turn-in-place threshold the follower turned it back. It dithered
-/// there, the wheels barely moving, and the guard's hold (reset by each
-/// turn in place) never ran out. Scaling the push with any speed the
-/// guard allows was tried: the studio's noiseless golden went from 874 to
-/// 1,087 s (repetition 1.01 to 1.38), the push being what steers a
-/// slowed robot off a wall.
-pub fn push_at_speed(w: i32, push: i32, v_wanted: i32, v_allowed: i32) -> i32 {
-    if push == 0 || v_wanted <= 0 || v_allowed > 0 {
-        return w;
-    }
-    w.saturating_sub(push)
-}
