@@ -4,9 +4,7 @@
 //! and limits.
 
 use proptest::prelude::*;
-use robovac::nav::keep_off::{
-    intrusions, push_at_speed, steer, KeepOffParams, NearWalls, NEAR_CELLS,
-};
+use robovac::nav::keep_off::{intrusions, steer, KeepOffParams, NearWalls, NEAR_CELLS};
 use robovac::robot::lidar_map::{CellState, EvidenceMap};
 use robovac::robot::odometry::Pose;
 
