@@ -18,7 +18,7 @@ use robovac::mission::{EventKind, LocalPlanner, MapMode};
 fn the_potential_field_steers_the_home_flat_and_shows_its_local_minima() {
     // Two people and realistic noise: this run meets one local minimum
     // (measured; the count is the executive's, checked against its events).
-    // Seed 8. Earlier seeds stopped meeting one as the executive changed:
+    // Seed 3. Earlier seeds stopped meeting one as the executive changed:
     // seed 1 when given-up lanes were handed back whatever stands on them,
     // seed 7 when the robot kept off the walls beside it (`nav::keep_off`),
     // seed 16 when its edge pass grazed a door jamb, seed 11 when the
@@ -30,10 +30,11 @@ fn the_potential_field_steers_the_home_flat_and_shows_its_local_minima() {
     // 3 waypoints at least (`sim::world::MIN_LOOP`), seed 3 when the
     // guard counted the nearest map cells (`Mission::cells_free`), seed 4
     // when known mode's lidar hits stood only for fixed walls
-    // (`wall_offset`'s `fixed_only`). Seeds 1-12 tried: 8 (3 minima), 11
-    // and 12 (1 each) meet one, every run with no collision.
+    // (`wall_offset`'s `fixed_only`), seed 8 when the guard left out the
+    // map cells under the body (`UNDER_BODY_MM`). Seeds 1-16 tried: 3, 4,
+    // 10, 13, 14 and 16 meet one each, every run docked with no collision.
     let map = suite_map("home").unwrap();
-    let mut o = MissionOptions::new(map, MapMode::Known, 2, Noise::Realistic, 8);
+    let mut o = MissionOptions::new(map, MapMode::Known, 2, Noise::Realistic, 3);
     o.local = LocalPlanner::Apf;
     let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
     truth::check_truth(&o, &rep, &t);
