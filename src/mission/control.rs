@@ -18,7 +18,7 @@ use super::start_check::{START_HOLD_US, START_STILL_US};
 use super::{Activity, Capacity, EventKind, Fault, MapMode, Mission, MotorCmd, Phase};
 use crate::nav::cspace;
 use crate::nav::follow::{follow, FollowCmd};
-use crate::nav::geometry::RobotFrame;
+use crate::nav::geometry::{within_square, RobotFrame};
 use crate::nav::guard::{limit_speed, FreeDistance, GuardParams, MappedFree};
 use crate::nav::keep_off;
 use crate::robot::odometry::Pose;
@@ -543,12 +543,6 @@ pub(super) fn turned(pose: &Pose, w: i32) -> Pose {
         theta_mrad: pose.theta_mrad + w / 4,
         ..*pose
     }
-}
-
-/// `q` lies within `r_mm` of the robot along both axes (world mm): a
-/// cheap test that skips far points before their transform.
-pub(super) fn within_square(pose: &Pose, q: (i32, i32), r_mm: i64) -> bool {
-    (q.0 as i64 - pose.x_mm as i64).abs() <= r_mm && (q.1 as i64 - pose.y_mm as i64).abs() <= r_mm
 }
 
 /// How far from the robot (world mm, along either axis) a lidar point can

@@ -2,9 +2,8 @@
 //! its start is judged by the lidar hits straight ahead as measured
 //! ([`Mission::start_free`]), used by the guard in [`super::control`].
 
-use super::control::within_square;
 use super::Mission;
-use crate::nav::geometry::RobotFrame;
+use crate::nav::geometry::{within_square, RobotFrame};
 use crate::nav::guard::FreeDistance;
 use crate::robot::odometry::Pose;
 

@@ -14,6 +14,12 @@ pub fn to_robot(pose: &Pose, q: (i32, i32)) -> PointMm {
     RobotFrame::of(pose).to_robot(q)
 }
 
+/// `q` lies within `r_mm` of the robot along both axes (world mm): a
+/// cheap test that skips far points before their transform.
+pub fn within_square(pose: &Pose, q: (i32, i32), r_mm: i64) -> bool {
+    (q.0 as i64 - pose.x_mm as i64).abs() <= r_mm && (q.1 as i64 - pose.y_mm as i64).abs() <= r_mm
+}
+
 /// A pose's frame with its sine and cosine worked out once, for many
 /// points: the guard and DWA turn every lidar point of the ring each
 /// period, and a CORDIC per point made the control tick cost over 2 M
