@@ -92,10 +92,12 @@ mod pil_entry {
         };
         stack::guard(&mut cp.MPU);
         let mut link = board::simlink::SimLink::new(&mut cp.SYST);
-        let meter = board::simlink::Meter::calibrate();
+        let meter = board::meter::Meter::calibrate();
         defmt::info!(
-            "meter: {} instructions per 1000 SysTick ticks",
-            meter.ratio()
+            "meter: {} instructions per 1000 SysTick ticks ({} ticks for a {}-instruction loop)",
+            meter.ratio(),
+            meter.calibration_ticks(),
+            board::meter::CALIBRATION_INSTRUCTIONS
         );
         defmt::info!("robovac sim-link image {}", env!("CARGO_PKG_VERSION"));
         let buffers = pil::Buffers {

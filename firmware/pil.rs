@@ -10,7 +10,8 @@
 //! measured in instructions; at the end the report carries them with the
 //! stack's high-water mark.
 
-use super::board::simlink::{Meter, SimLink};
+use super::board::meter::Meter;
+use super::board::simlink::SimLink;
 use super::stack;
 use super::status::{self, STATUS_US};
 use robovac::capacity::{

@@ -1,19 +1,20 @@
-//! What the emulated runs share: the SysTick instruction meter, exit and
+//! What the emulated runs share: the SysTick instruction meter (the
+//! sim-link board's, `firmware/board/meter.rs`), exit and
 //! failure on the target, the fault handlers. Included by `emu.rs` and
 //! `emu_localize.rs` with `#[path]` (examples cannot share a module
 //! otherwise).
-
-use core::sync::atomic::{AtomicU32, Ordering};
 
 use cortex_m::peripheral::SYST;
 use cortex_m_rt::{exception, ExceptionFrame};
 use cortex_m_semihosting::debug;
 
-static WRAPS: AtomicU32 = AtomicU32::new(0);
+#[path = "../../firmware/board/meter.rs"]
+mod meter;
+pub use meter::{known_loop, Meter};
 
 #[exception]
 fn SysTick() {
-    WRAPS.fetch_add(1, Ordering::Relaxed);
+    meter::on_wrap();
 }
 
 #[exception]
@@ -33,61 +34,6 @@ pub fn exit(status: debug::ExitStatus) -> ! {
     debug::exit(status);
     loop {
         cortex_m::asm::wfi();
-    }
-}
-
-pub fn ticks() -> u64 {
-    loop {
-        let w1 = WRAPS.load(Ordering::Acquire);
-        let v = SYST::get_current();
-        let w2 = WRAPS.load(Ordering::Acquire);
-        if w1 == w2 {
-            return ((w1 as u64) << 24) + (0x00FF_FFFF - v as u64);
-        }
-    }
-}
-
-/// Runs `n` iterations of a two-instruction loop.
-pub fn known_loop(n: u32) {
-    if n == 0 {
-        return;
-    }
-    // SAFETY: a register-only countdown loop; touches no memory.
-    unsafe {
-        core::arch::asm!(
-            "2:",
-            "subs {n}, {n}, #1",
-            "bne 2b",
-            n = inout(reg) n => _,
-            options(nomem, nostack),
-        );
-    }
-}
-
-/// Instructions per 1000 ticks, calibrated against the known loop.
-pub fn calibrate() -> u64 {
-    let n = 2_000_000u32;
-    let t0 = ticks();
-    known_loop(n);
-    let t = ticks() - t0;
-    defmt::println!(
-        "calibration: {} SysTick ticks for a {}-instruction loop",
-        t,
-        2 * n
-    );
-    (2 * n as u64 * 1000) / t.max(1)
-}
-
-pub struct Meter {
-    pub insn_per_kilotick: u64,
-}
-
-impl Meter {
-    pub fn measure<R>(&self, f: impl FnOnce() -> R) -> (R, u64) {
-        let t0 = ticks();
-        let r = f();
-        let t = ticks() - t0;
-        (r, t * self.insn_per_kilotick / 1000)
     }
 }
 
@@ -145,15 +91,18 @@ pub fn start_meter() -> Meter {
     while SYST::get_current() == 0 && spins < 1_000_000 {
         spins += 1;
     }
-    let kilo = calibrate();
+    let meter = Meter::calibrate();
+    defmt::println!(
+        "calibration: {} SysTick ticks for a {}-instruction loop",
+        meter.calibration_ticks(),
+        meter::CALIBRATION_INSTRUCTIONS
+    );
+    let kilo = meter.ratio();
     defmt::println!(
         "calibration: {}.{:03} instructions per SysTick tick",
         kilo / 1000,
         kilo % 1000
     );
-    let meter = Meter {
-        insn_per_kilotick: kilo,
-    };
     let ((), k) = meter.measure(|| known_loop(50_000));
     defmt::println!(
         "meter check: 100000-instruction loop measured as {} instructions",

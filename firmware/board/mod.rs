@@ -13,6 +13,8 @@ pub mod encoders;
 pub mod flash_store;
 #[cfg(not(feature = "pil"))]
 pub mod lidar_dma;
+#[cfg(feature = "pil")]
+pub mod meter;
 #[cfg(not(feature = "pil"))]
 pub mod motors;
 #[cfg(all(not(feature = "pil"), feature = "log-serial"))]

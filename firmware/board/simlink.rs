@@ -11,7 +11,7 @@
 //! models no RCC, DMA or watchdog: nothing here waits for a clock. Time
 //! is the host's (each tick carries it), so a run is deterministic.
 //! Instructions are counted with SysTick (`-icount shift=0`: one
-//! instruction is one nanosecond of virtual time; see [`Meter`]).
+//! instruction is one nanosecond of virtual time; see [`super::meter`]).
 
 use core::ptr::addr_of_mut;
 use core::sync::atomic::{AtomicU32, Ordering};
@@ -33,7 +33,6 @@ static mut LINK_IN: Option<Producer<'static, u8>> = None;
 /// Receive errors (overrun, framing, noise) and bytes lost to a full queue.
 static RX_ERRORS: AtomicU32 = AtomicU32::new(0);
 static RX_DROPPED: AtomicU32 = AtomicU32::new(0);
-static SYSTICK_WRAPS: AtomicU32 = AtomicU32::new(0);
 
 /// The board as the sim-link mission runner uses it.
 pub struct SimLink {
@@ -225,68 +224,5 @@ unsafe fn HardFault(ef: &cortex_m_rt::ExceptionFrame) -> ! {
 
 #[cortex_m_rt::exception]
 fn SysTick() {
-    SYSTICK_WRAPS.fetch_add(1, Ordering::Relaxed);
-}
-
-/// SysTick ticks since boot (64 bits from the 24-bit counter and its
-/// wraps).
-fn ticks() -> u64 {
-    loop {
-        let w1 = SYSTICK_WRAPS.load(Ordering::Acquire);
-        let v = SYST::get_current();
-        let w2 = SYSTICK_WRAPS.load(Ordering::Acquire);
-        if w1 == w2 {
-            return ((w1 as u64) << 24) + (0x00FF_FFFF - v as u64);
-        }
-    }
-}
-
-/// Counts instructions: SysTick ticks scaled by a ratio calibrated at
-/// boot against a loop of known length (QEMU clocks SysTick from its
-/// model of the CPU clock, not one tick per instruction).
-pub struct Meter {
-    insn_per_ktick: u64,
-}
-
-impl Meter {
-    /// Calibrates against 2,000,000 iterations of a two-instruction loop.
-    pub fn calibrate() -> Self {
-        let n = 2_000_000u32;
-        let t0 = ticks();
-        known_loop(n);
-        let t = ticks().saturating_sub(t0).max(1);
-        Self {
-            insn_per_ktick: 2 * n as u64 * 1000 / t,
-        }
-    }
-
-    /// Instructions per 1000 SysTick ticks.
-    pub fn ratio(&self) -> u64 {
-        self.insn_per_ktick
-    }
-
-    /// Runs `f`; returns its result and the instructions it took.
-    pub fn measure<R>(&self, f: impl FnOnce() -> R) -> (R, u64) {
-        let t0 = ticks();
-        let r = f();
-        let t = ticks().saturating_sub(t0);
-        (r, t * self.insn_per_ktick / 1000)
-    }
-}
-
-/// `n` iterations of `subs; bne`: exactly 2n instructions.
-fn known_loop(n: u32) {
-    if n == 0 {
-        return;
-    }
-    // SAFETY: a register-only countdown loop; touches no memory.
-    unsafe {
-        core::arch::asm!(
-            "2:",
-            "subs {n}, {n}, #1",
-            "bne 2b",
-            n = inout(reg) n => _,
-            options(nomem, nostack),
-        );
-    }
+    super::meter::on_wrap();
 }
