@@ -12,6 +12,9 @@ With --stack-need N (the high-water mark a processor-in-the-loop run of
 the same executive measured, painted at boot), exit 1 when the image
 leaves the stack fewer than N bytes: static RAM grown into the stack's
 room fails CI instead of corrupting .bss on a flashed robot.
+It also lists static RAM per structure: every symbol of 256 bytes or more
+in SRAM or the CCM, from the ELF's own symbol table (the mission's
+buffers, the DMA ring, the log's ring), and the rest in one line.
 Usage: size_report.py ELF [RAM_BYTES] [--stack-need N]"""
 import argparse, struct, sys
 
@@ -33,16 +36,45 @@ def cstr(off):
     return f[off:f.index(b'\0', off)].decode()
 stroff = secs[shstrndx][4]
 def symbols():
-    """Name -> value of the ELF's symbols."""
+    """Name -> (value, size) of the ELF's symbols."""
     out = {}
     for s in secs:
         if s[1] != 2:                  # SHT_SYMTAB
             continue
         strtab = secs[s[6]][4]
         for i in range(s[5] // 16):
-            st_name, st_value = struct.unpack_from('<II', f, s[4] + i * 16)
-            out[cstr(strtab + st_name)] = st_value
+            st_name, st_value, st_size = struct.unpack_from('<III', f, s[4] + i * 16)
+            out[cstr(strtab + st_name)] = (st_value, st_size)
     return out
+
+
+def plain(name):
+    """A Rust symbol's path without its hash (legacy mangling `_ZN...E`),
+    RTIC's prefix for an init-local resource shortened (`app::init::map`)
+    and cortex-m-rt's for an entry point's static dropped."""
+    if not name.startswith('_ZN'):
+        return name
+    parts, i = [], 3
+    while i < len(name) and name[i].isdigit():
+        j = i
+        while name[j].isdigit():
+            j += 1
+        n = int(name[i:j])
+        parts.append(name[j:j + n])
+        i = j + n
+    if parts and parts[-1].startswith('h') and len(parts[-1]) == 17:
+        parts.pop()
+    path = '::'.join(parts).replace('$LT$', '<').replace('$GT$', '>').replace('..', '::')
+    path = path.replace('__rtic_internal_local_init_', 'init::')
+    return path.replace('__cortex_m_rt_main_trampoline::', '')
+
+
+def structures(sym, lo, hi, least=256):
+    """(bytes, name) of the symbols of `least` bytes or more in [lo, hi),
+    largest first."""
+    big = [(size, plain(name)) for name, (value, size) in sym.items()
+           if lo <= value < hi and size >= least]
+    return sorted(big, reverse=True)
 flash = ram = ccm = 0
 rows = []
 for s in secs:
@@ -67,9 +99,19 @@ print(f"static RAM: {ram} bytes ({ram / 1024:.1f} KiB of {ram_total // 1024} KiB
 if ccm:
     print(f"CCM: {ccm} bytes ({ccm / 1024:.1f} KiB of {CCM_BYTES // 1024} KiB; {CCM_BYTES - ccm} bytes left)")
 sym = symbols()
+# Static RAM per structure: every symbol in SRAM or the CCM of 256 bytes
+# or more (the mission's buffers are RTIC init-local resources).
+for where, lo, hi, total in (("SRAM", 0x20000000, 0x20000000 + ram_total, ram),
+                             ("CCM", 0x10000000, 0x10000000 + CCM_BYTES, ccm)):
+    big = structures(sym, lo, hi)
+    if big:
+        print(f"static {where} per structure (256 bytes or more):")
+        for size, name in big:
+            print(f"  {size:>8}  {name}")
+        print(f"  {total - sum(b for b, _ in big):>8}  the rest (smaller statics, alignment)")
 if '_stack_start' in sym and '_stack_end' in sym:
     where = 'CCM' if ccm else 'SRAM'
-    stack = sym['_stack_start'] - sym['_stack_end']
+    stack = sym['_stack_start'][0] - sym['_stack_end'][0]
     print(f"stack: {stack} bytes (top of {where})")
     if args.stack_need is not None:
         spare = stack - args.stack_need
