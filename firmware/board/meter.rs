@@ -71,7 +71,7 @@ impl Meter {
         known_loop(CALIBRATION_LOOPS);
         let t = ticks().saturating_sub(t0).max(1);
         Self {
-            insn_per_ktick: 2 * CALIBRATION_LOOPS as u64 * 1000 / t,
+            insn_per_ktick: CALIBRATION_INSTRUCTIONS * 1000 / t,
             calibration_ticks: t,
         }
     }
