@@ -54,7 +54,8 @@ def main():
             ("lidar frames", lambda r: r["lidar_parser"]["frames"]),
             ("lidar bad crc", lambda r: r["lidar_parser"]["crc_failures"]),
             ("bytes skipped", lambda r: r["lidar_parser"]["bytes_skipped"]),
-            ("silence stop ms", lambda r: r.get("silence_stop_ms", "-"))]
+            ("silence stop ms", lambda r: r.get("silence_stop_ms", "-")),
+            ("map scrolls", lambda r: r.get("map_scrolls", "-"))]
     print(f"{'':16}{'host':>14}{'firmware':>14}")
     for label, get in rows:
         print(f"{label:16}{str(get(h)):>14}{str(get(f)):>14}")
@@ -88,6 +89,8 @@ def main():
         bad.append("the host's mission ended at the dock, the firmware's did not")
     if not fw:
         bad.append("no report from the firmware")
+    if h.get("map_scrolls") != f.get("map_scrolls"):
+        bad.append("the map scrolled a different number of times")
     if "--lidar-gap" in args and not (f.get("silence_stop_ms") is not None
                                       and f["silence_stop_ms"] <= 200):
         bad.append("the firmware's motors did not stop within 200 ms of the lidar's silence")

@@ -163,5 +163,12 @@ pub const GAINS: WheelGains = WheelGains {
 };
 /// The LD06 at the robot's centre, zero bearing forward, clockwise.
 pub const MOUNT: LidarMount = LidarMount::ld06_centred(true);
-/// The robot's mission: a home it has not seen (unknown mode).
-pub const MISSION: MissionConfig = MissionConfig::new(MapMode::Unknown, GEOMETRY, GAINS, MOUNT);
+/// The robot's mission: a home it has not seen (unknown mode), on a map in
+/// the robot's own frame, centred on the dock, that scrolls as the robot
+/// nears its edge (`robovac::mission::scroll`; off once a saved map is
+/// loaded: its frame is kept).
+pub const MISSION: MissionConfig = {
+    let mut c = MissionConfig::new(MapMode::Unknown, GEOMETRY, GAINS, MOUNT);
+    c.scroll_map = true;
+    c
+};

@@ -6,6 +6,7 @@ pub mod los;
 pub mod maps;
 pub mod occupancy;
 pub mod rooms;
+pub mod shift;
 pub mod zones;
 
 pub use occupancy::{Cell, Grid, GridError, Layer};

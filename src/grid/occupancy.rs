@@ -253,6 +253,18 @@ impl<const NW: usize> Grid<NW> {
         Ok(())
     }
 
+    /// Moves one layer's bits `dx` columns right and `dy` rows down; the
+    /// strip left behind reads false ([`super::shift::for_shift`]). The
+    /// planning grid's covered layer under a scrolling map.
+    pub fn shift_layer(&mut self, layer: Layer, dx: i32, dy: i32) {
+        let (w, h) = (self.width(), self.height());
+        let bits = self.layer_mut(layer);
+        super::shift::for_shift(w, h, dx, dy, |d, s| {
+            let v = s.is_some_and(|s| bits.get(s));
+            bits.put(d, v);
+        });
+    }
+
     /// True when (x, y) is an obstacle or off the map.
     #[inline]
     pub fn is_blocked(&self, x: i32, y: i32) -> bool {

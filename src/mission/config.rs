@@ -180,6 +180,11 @@ pub struct MissionConfig {
     /// when the mission begins
     /// ([`crate::robot::lidar_map::EvidenceMap::thaw_prior`]).
     pub prior_saved: bool,
+    /// Unknown mode on an empty map: the map scrolls when the robot nears
+    /// its edge ([`super::scroll`]). For a map in the robot's own frame
+    /// (the robot image's, centred on the dock); off for a map that holds
+    /// the whole home already.
+    pub scroll_map: bool,
     /// Coverage planner.
     pub kind: PlannerKind,
     /// Wheels and encoders.
@@ -290,6 +295,7 @@ impl MissionConfig {
         Self {
             mode,
             prior_saved: false,
+            scroll_map: false,
             kind: PlannerKind::BOha,
             geometry,
             gains,

@@ -134,6 +134,9 @@ sized_impl!([] {
     /// The cover phase's step: map upkeep, avoidance, the fine path being
     /// fed, the planner's next waypoints; the edge pass when it is done.
     pub(super) fn cover_step(&mut self, now_us: u64, pose: &Pose) {
+        if self.scroll_when_due(now_us, pose) {
+            return;
+        }
         self.trace_lanes(pose);
         self.refresh_coarse();
         self.watch_corridor(now_us, pose);

@@ -60,6 +60,14 @@ pub enum EventKind {
         /// How far it was from the odometry's, mm (Manhattan).
         moved_mm: i32,
     },
+    /// The map scrolled under the robot ([`super::scroll`]): every world
+    /// point the executive knew is now at p + (dx, dy) mm.
+    MapScrolled {
+        /// East, mm.
+        dx_mm: i32,
+        /// North, mm.
+        dy_mm: i32,
+    },
     /// The bumper felt something while driving: the robot backs off and
     /// plans the leg again.
     Bumped {

@@ -74,6 +74,15 @@ impl<const N: usize> HitRing<N> {
         self.len = (self.len + 1).min(N);
     }
 
+    /// Every hit moved by (`dx`, `dy`) mm (the map scrolled,
+    /// [`super::scroll`]); the wall offsets are relative and stay.
+    pub(super) fn shift(&mut self, dx: i32, dy: i32) {
+        for h in self.buf.iter_mut() {
+            h.x = h.x.saturating_add(dx);
+            h.y = h.y.saturating_add(dy);
+        }
+    }
+
     /// The hits held, in storage order.
     pub(super) fn as_slice(&self) -> &[Hit] {
         self.buf.get(..self.len).unwrap_or(&[])

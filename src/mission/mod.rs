@@ -127,6 +127,7 @@ mod progress;
 mod recover;
 mod rooms;
 mod route;
+pub mod scroll;
 mod start_check;
 
 pub mod config;
@@ -314,6 +315,8 @@ pub struct Mission {
     /// Where the edge pass last went on from the queue's end instead of
     /// its own last cell ([`edge`]), world mm.
     edge_rejoined_at: Option<(i32, i32)>,
+    /// The planning step before which no scroll is looked for again.
+    scroll_look_at: u32,
 }
 
 /// The executive at work on the caller's buffers `P` (the planning side).
@@ -408,6 +411,7 @@ impl Mission {
             chord: crate::nav::chord::Chord::new(),
             trace_at: None,
             edge_rejoined_at: None,
+            scroll_look_at: 0,
         }
     }
 

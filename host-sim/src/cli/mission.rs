@@ -151,6 +151,16 @@ pub struct Args {
     /// (`fw`: the chip's capacities, so the figures are the robot's).
     #[arg(long, value_enum, default_value_t)]
     pub capacity: host_sim::run::parts::Capacity,
+    /// The robot's own map frame, as the robot image keeps it: an empty
+    /// map of the capacity's side (12 m at `fw`) with the dock at its
+    /// centre, scrolling as the robot nears its edge. For a first run in
+    /// unknown mode at `--capacity fw` or `fw16`.
+    #[arg(long)]
+    pub dock_frame: bool,
+    /// With --dock-frame: the map never scrolls (for comparison: the floor
+    /// past its edge is lost).
+    #[arg(long, requires = "dock_frame")]
+    pub no_scroll: bool,
     /// Processor-in-the-loop: run the firmware image built with the
     /// sim-link board (`scripts/pil.sh` builds it) in QEMU's netduinoplus2
     /// instead of the core in this process. Needs qemu-system-arm.
@@ -251,6 +261,8 @@ fn options(a: &Args) -> Result<MissionOptions, String> {
         },
         firmware_order: a.firmware_order,
         capacity: a.capacity,
+        dock_frame: a.dock_frame,
+        scroll: !a.no_scroll,
         pil: a.pil.then(|| host_sim::run::pil::PilOptions {
             elf: a.pil_elf.clone(),
             log: a.pil_log.clone(),

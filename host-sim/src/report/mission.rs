@@ -32,6 +32,9 @@ pub fn summary(rep: &MissionReport) -> String {
             rep.charging_time_s / 60.0
         ),
     };
+    let scrolls = rep
+        .map_scrolls
+        .map_or(String::new(), |n| format!(" · map scrolled {n} times"));
     let missing = match rep.people_missing {
         0 => String::new(),
         n => format!(" · {n} people asked for found no loop to walk and were left out"),
@@ -62,6 +65,7 @@ pub fn summary(rep: &MissionReport) -> String {
         rep.avoidance_events,
         rep.sim_time_s / rep.wall_time_s.max(1e-9),
     ) + &charges
+        + &scrolls
         + &zones
         + &objects
         + &missing

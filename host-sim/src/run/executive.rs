@@ -92,6 +92,48 @@ pub trait Executive {
     fn debug_fine(&self, _sim: &Sim) {}
 }
 
+/// The robot's map frame against the world's: world mm = map mm +
+/// `offset_mm`. Translation only: the map's axes are the world's. The
+/// identity (the default) for a map sized to the world; for the robot's
+/// own frame (`--dock-frame`: the dock at the map's centre) it follows
+/// the map's scrolls ([`robovac::mission::scroll`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Frame {
+    /// World mm of the map's origin.
+    pub offset_mm: (i32, i32),
+    /// Times the map scrolled.
+    pub scrolls: u32,
+}
+
+impl Frame {
+    /// A world pose in the map's frame.
+    pub fn to_map(&self, p: Pose) -> Pose {
+        Pose {
+            x_mm: p.x_mm - self.offset_mm.0,
+            y_mm: p.y_mm - self.offset_mm.1,
+            ..p
+        }
+    }
+
+    /// A map pose in the world's frame.
+    pub fn to_world(&self, p: Pose) -> Pose {
+        Pose {
+            x_mm: p.x_mm + self.offset_mm.0,
+            y_mm: p.y_mm + self.offset_mm.1,
+            ..p
+        }
+    }
+
+    /// Follows the executive's events: a scroll moves the map's origin.
+    pub fn note(&mut self, e: &Event) {
+        if let robovac::mission::EventKind::MapScrolled { dx_mm, dy_mm } = e.kind {
+            self.offset_mm.0 -= dx_mm;
+            self.offset_mm.1 -= dy_mm;
+            self.scrolls += 1;
+        }
+    }
+}
+
 /// The core's executive in this process, in the buffers given.
 pub struct Native<'a> {
     /// The executive.
@@ -100,11 +142,13 @@ pub struct Native<'a> {
     pub parts: &'a mut dyn MissionParts,
     /// `control` then `plan` (the firmware's order) instead of `tick`.
     pub firmware_order: bool,
+    /// The map's frame against the world's.
+    pub frame: Frame,
 }
 
 impl Executive for Native<'_> {
     fn begin(&mut self, dock: Pose) -> Result<(), String> {
-        self.mission.begin(self.parts, dock);
+        self.mission.begin(self.parts, self.frame.to_map(dock));
         Ok(())
     }
 
@@ -129,13 +173,13 @@ impl Executive for Native<'_> {
 
     fn save_map(&mut self, dock: Pose, store: &mut MemStore) -> Result<u32, String> {
         self.parts
-            .save_map(dock, store)
+            .save_map(self.frame.to_map(dock), store)
             .map_err(|e| format!("map not saved: {e}"))
     }
 
     fn save_progress(&mut self, dock: Pose, store: &mut MemStore) -> Result<u32, String> {
         self.parts
-            .save_progress(self.mission, dock, store)
+            .save_progress(self.mission, self.frame.to_map(dock), store)
             .map_err(|e| format!("progress not saved: {e}"))
     }
 
@@ -160,7 +204,11 @@ impl Executive for Native<'_> {
         Ok(())
     }
     fn pop_event(&mut self) -> Option<Event> {
-        self.mission.pop_event()
+        let e = self.mission.pop_event();
+        if let Some(e) = &e {
+            self.frame.note(e);
+        }
+        e
     }
     fn finished(&self) -> bool {
         self.mission.finished()
@@ -169,7 +217,7 @@ impl Executive for Native<'_> {
         self.mission.state()
     }
     fn pose(&self) -> Pose {
-        self.mission.pose()
+        self.frame.to_world(self.mission.pose())
     }
     fn lost(&self) -> bool {
         self.mission.lost()

@@ -75,6 +75,15 @@ pub struct MissionOptions {
     pub firmware_order: bool,
     /// Whose buffers the executive runs in.
     pub capacity: Capacity,
+    /// The robot's own map frame, as the robot image keeps it: an empty
+    /// map of the capacity's side with the dock at its centre, which
+    /// scrolls as the robot nears its edge ([`robovac::mission::scroll`]).
+    /// Unknown mode at the firmware's capacity. Off: the map is sized to
+    /// the world and holds the whole home from the start.
+    pub dock_frame: bool,
+    /// With `dock_frame`: the map scrolls (off for comparison: the floor
+    /// past the map's edge is then lost).
+    pub scroll: bool,
     /// Run the firmware image in the emulator instead of the core in this
     /// process (processor-in-the-loop; at the firmware's capacity).
     pub pil: Option<super::pil::PilOptions>,
@@ -119,6 +128,8 @@ impl MissionOptions {
             localize: true,
             firmware_order: false,
             capacity: Default::default(),
+            dock_frame: false,
+            scroll: true,
             pil: None,
             bumper: true,
             zones: Vec::new(),
@@ -179,6 +190,10 @@ pub struct MissionReport {
     pub charging_time_s: f64,
     /// Charges: home with the battery low, charged, and on again.
     pub charges: u32,
+    /// Times the map scrolled under the robot (`--dock-frame`; absent
+    /// when it never did).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub map_scrolls: Option<u32>,
     /// The rooms: found, entered, and their agreement with the vendor's
     /// segments (None: no room tour).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -308,7 +323,7 @@ pub fn run_mission(
     let mut sim = Sim::new(cfg.clone(), world, pose, opts.noise, opts.seed);
     let mut floor = Floor::new(&sim.world, start, r, 0.05);
     let mut mission = Box::new(Mission::new(mission_config(opts, &cfg, r)));
-    let known = opts.mode == MapMode::Known;
+    check_dock_frame(opts, &sim.world)?;
     if let Some(pil) = &opts.pil {
         if !sim.world.zones.is_empty() {
             return Err(
@@ -320,29 +335,21 @@ pub fn run_mission(
         // The prior in the image's capacity (`--capacity fw16` for an
         // image built with `home16`).
         let mut exec = if opts.capacity == Capacity::Fw16 {
-            super::pil::Pil::start_on(
-                pil,
-                cfg,
-                Box::new(home16::FwEvidence::new()),
-                &sim.world,
-                known,
-            )?
+            let map = Box::new(home16::FwEvidence::new());
+            pil_on(pil, opts, cfg, map, home16::FW_HOME_SIDE, &sim.world, start)?
         } else {
-            super::pil::Pil::start_on(
-                pil,
-                cfg,
-                Box::new(home12::FwEvidence::new()),
-                &sim.world,
-                known,
-            )?
+            let map = Box::new(home12::FwEvidence::new());
+            pil_on(pil, opts, cfg, map, home12::FW_HOME_SIDE, &sim.world, start)?
         };
         let (mut rep, trace) = drive(opts, &mut sim, &mut floor, &mut exec, pose, progress)?;
         rep.wall_time_s = t0.elapsed().as_secs_f64();
+        rep.map_scrolls = opts.dock_frame.then_some(exec.frame.scrolls);
         rep.firmware = exec.report.map(super::pil::FirmwareFigures::from);
         return Ok((rep, trace, floor));
     }
     // The buffers of the capacity asked for, lent to the executive.
     let (mut hp, mut fp, mut fp16, mut host, mut fw, mut fw16);
+    let mut frame = super::executive::Frame::default();
     let parts: &mut dyn MissionParts = match opts.capacity {
         Capacity::Host => {
             hp = HostParts::new(opts.kind);
@@ -352,13 +359,21 @@ pub fn run_mission(
         }
         Capacity::Fw => {
             fp = FwHostParts::new(opts.kind);
-            prepare_map(&mut fp.map, &sim.world, opts)?;
+            if opts.dock_frame {
+                frame = dock_frame(&mut fp.map, home12::FW_HOME_SIDE, start)?;
+            } else {
+                prepare_map(&mut fp.map, &sim.world, opts)?;
+            }
             fw = fp.parts();
             &mut fw
         }
         Capacity::Fw16 => {
             fp16 = Fw16HostParts::new(opts.kind);
-            prepare_map(&mut fp16.map, &sim.world, opts)?;
+            if opts.dock_frame {
+                frame = dock_frame(&mut fp16.map, home16::FW_HOME_SIDE, start)?;
+            } else {
+                prepare_map(&mut fp16.map, &sim.world, opts)?;
+            }
             fw16 = fp16.parts();
             &mut fw16
         }
@@ -367,9 +382,11 @@ pub fn run_mission(
         mission: &mut mission,
         parts,
         firmware_order: opts.firmware_order,
+        frame,
     };
     let (mut rep, mut trace) = drive(opts, &mut sim, &mut floor, &mut exec, pose, progress)?;
     rep.wall_time_s = t0.elapsed().as_secs_f64();
+    rep.map_scrolls = opts.dock_frame.then_some(exec.frame.scrolls);
     let cell_mm = mission_config(opts, &cfg, r).plan_cell_mm;
     let map_h_m = super::rooms::evidence_h_m(sim.world.size_m().1, EVIDENCE_MM);
     trace.rooms = super::rooms::RoomView::of(&*exec.parts, cell_mm, map_h_m);
@@ -524,6 +541,68 @@ fn keep_progress(
     Ok(())
 }
 
+/// The firmware in the emulator, its map in `map` (a `side` × `side` map
+/// of the image's capacity): the world's prior (known mode), or the
+/// dock's frame (`--dock-frame`, the dock at `start`, world m).
+fn pil_on<const B: usize>(
+    pil: &super::pil::PilOptions,
+    opts: &MissionOptions,
+    cfg: MissionConfig,
+    mut map: Box<robovac::robot::lidar_map::EvidenceMap<B>>,
+    side: usize,
+    world: &World,
+    start: (f64, f64),
+) -> Result<super::pil::Pil, String> {
+    if !opts.dock_frame {
+        let known = opts.mode == MapMode::Known;
+        return super::pil::Pil::start_on(pil, cfg, map, world, known);
+    }
+    let frame = dock_frame(&mut map, side, start)?;
+    let mut p = super::pil::Pil::start(&pil.elf, pil.log.as_deref(), cfg, &map)?;
+    p.frame = frame;
+    Ok(p)
+}
+
+/// `--dock-frame` is for a first run in unknown mode at the firmware's
+/// capacity: what the robot image does.
+fn check_dock_frame(opts: &MissionOptions, world: &World) -> Result<(), String> {
+    if !opts.dock_frame {
+        return Ok(());
+    }
+    let why = if opts.mode != MapMode::Unknown || opts.map_store.load.is_some() {
+        "a first run in unknown mode (no --load-map)"
+    } else if opts.capacity == Capacity::Host {
+        "the firmware's capacity (--capacity fw or fw16)"
+    } else if !world.zones.is_empty() {
+        "no no-go zones or virtual walls (they are drawn in the world's frame; --no-map-zones)"
+    } else if opts.map_store.save || opts.map_store.progress_every_s.is_some() {
+        "no saved map (a map in the dock's frame is not of the world's)"
+    } else {
+        return Ok(());
+    };
+    Err(format!("--dock-frame needs {why}"))
+}
+
+/// The robot's own frame: an empty `side` × `side` map of
+/// [`EVIDENCE_MM`] cells with the dock (`start`, world m) at its centre.
+fn dock_frame<const B: usize>(
+    map: &mut robovac::robot::lidar_map::EvidenceMap<B>,
+    side: usize,
+    start: (f64, f64),
+) -> Result<super::executive::Frame, String> {
+    map.reset(side as u32, side as u32, EVIDENCE_MM)
+        .map_err(|e| format!("map too large for the evidence map: {e}"))?;
+    let half = (side as u32 * EVIDENCE_MM / 2) as i32;
+    let (x, y) = (
+        (start.0 * 1000.0).round() as i32,
+        (start.1 * 1000.0).round() as i32,
+    );
+    Ok(super::executive::Frame {
+        offset_mm: (x - half, y - half),
+        scrolls: 0,
+    })
+}
+
 /// Time the executive has spent charging on the dock, s.
 fn charging_s(rep: &MissionReport) -> f64 {
     rep.state_time_s.get("Charging").copied().unwrap_or(0.0)
@@ -538,6 +617,7 @@ fn mission_config(opts: &MissionOptions, cfg: &RobotConfig, r: f64) -> MissionCo
     mcfg.localize = opts.localize;
     mcfg.local = opts.local;
     mcfg.prior_saved = opts.map_store.load.is_some();
+    mcfg.scroll_map = opts.dock_frame && opts.scroll;
     mcfg.radius_mm = (r * 1000.0).round() as i32;
     if opts.noise.noisy() {
         mcfg = mcfg.with_lidar_noise((cfg.lidar_noise_m * 1000.0).round() as i32);

@@ -120,6 +120,8 @@ pub struct Pil {
     events: std::collections::VecDeque<Event>,
     /// The firmware's end-of-mission report.
     pub report: Option<Report>,
+    /// The firmware's map frame against the world's.
+    pub frame: super::executive::Frame,
     _dir: TempDir,
 }
 
@@ -190,6 +192,7 @@ impl Pil {
             },
             events: Default::default(),
             report: None,
+            frame: Default::default(),
             _dir: dir,
         };
         match pil.recv()? {
@@ -323,7 +326,7 @@ impl Executive for Pil {
         let (map_w, map_h, res_mm) = self.map_dims;
         self.send(&Down::Hello(Hello {
             cfg: self.cfg,
-            dock,
+            dock: self.frame.to_map(dock),
             map_w,
             map_h,
             res_mm,
@@ -358,7 +361,11 @@ impl Executive for Pil {
         self.send(&Down::Home)
     }
     fn pop_event(&mut self) -> Option<Event> {
-        self.events.pop_front()
+        let e = self.events.pop_front();
+        if let Some(e) = &e {
+            self.frame.note(e);
+        }
+        e
     }
     fn finished(&self) -> bool {
         self.last.finished
@@ -367,7 +374,7 @@ impl Executive for Pil {
         self.last.state
     }
     fn pose(&self) -> Pose {
-        self.last.pose
+        self.frame.to_world(self.last.pose)
     }
     fn lost(&self) -> bool {
         self.last.lost

@@ -119,6 +119,12 @@ impl<const F: usize> ScanAssembler<F> {
         }
     }
 
+    /// The revolution being assembled moved by (`dx`, `dy`) mm (the map
+    /// scrolled under it).
+    pub fn shift(&mut self, dx_mm: i32, dy_mm: i32) {
+        self.current.shift(dx_mm, dy_mm, 0);
+    }
+
     /// Adds a frame that arrived at `pose`. When it begins a new
     /// revolution, the finished one is copied into `out` and `true` is
     /// returned.
