@@ -83,7 +83,7 @@ pub fn scroll_amount(
         0
     };
     // Whole planning cells, toward 0.
-    s / step * step
+    s.checked_div(step).unwrap_or(0) * step
 }
 
 sized_impl!([] {
@@ -98,12 +98,12 @@ sized_impl!([] {
         let res = map.res_mm().max(1) as i32;
         let (cx, cy) = map.cell_of(pose.x_mm, pose.y_mm);
         let (w, h) = (map.width() as i32, map.height() as i32);
-        let near = SCROLL_NEAR_MM / res;
+        let near = SCROLL_NEAR_MM.checked_div(res).unwrap_or(0);
         let edge = cx < near || cy < near || cx >= w - near || cy >= h - near;
         if !edge || self.m.counters.plan_steps < self.m.scroll_look_at {
             return false;
         }
-        let step = self.m.cfg.plan_cell_mm as i32 / res;
+        let step = (self.m.cfg.plan_cell_mm as i32).checked_div(res).unwrap_or(1);
         let shift = map.seen_boxes().map(|((x0, y0, x1, y1), (fx0, fy0, fx1, fy1))| {
             (
                 scroll_amount(cx, w, ((x0, x1), (fx0, fx1)), near, step),
@@ -145,9 +145,11 @@ sized_impl!([] {
             return false;
         }
         let res = self.p.map.res_mm() as i32;
-        let step = (self.m.cfg.plan_cell_mm as i32 / res).max(1);
+        let step = (self.m.cfg.plan_cell_mm as i32).checked_div(res).unwrap_or(1).max(1);
+        // Checked: no panicking branch in the firmware (issue 11 §6).
+        let (gx, gy) = (dx.checked_div(step).unwrap_or(0), dy.checked_div(step).unwrap_or(0));
         for layer in [Layer::Covered, Layer::Known] {
-            self.p.coarse.shift_layer(layer, dx / step, dy / step);
+            self.p.coarse.shift_layer(layer, gx, gy);
             // The fine grid's: the lanes' track, which the edge pass
             // leaves out (`super::edge`).
             self.p.fine.shift_layer(layer, dx, dy);

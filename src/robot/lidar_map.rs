@@ -244,8 +244,10 @@ impl<const B: usize> EvidenceMap<B> {
             }
             for i in [2 * k, 2 * k + 1] {
                 let e = if i < n { self.get(i) } else { 0 };
-                if e != 0 {
-                    let (x, y) = ((i % w) as i32, (i / w) as i32);
+                // Checked: w is not 0 here (i < n), but the firmware must
+                // link no panicking branch (issue 11 §6).
+                if let (true, Some(x), Some(y)) = (e != 0, i.checked_rem(w), i.checked_div(w)) {
+                    let (x, y) = (x as i32, y as i32);
                     seen = union_box(seen, (x, y, x, y));
                     if e <= FREE_AT {
                         free = union_box(free, (x, y, x, y));
