@@ -23,10 +23,11 @@ use crate::sim::world::World;
 
 pub use super::dock::{default_start, docked_pose};
 use super::dock::{given_dock, place_dock};
-use super::mission_map::prepare_map;
+use super::mission_map::{check_dock_frame, dock_frame, pil_on, prepare_map};
 pub use super::mission_map::{MapStore, ZoneFigures, ZONE_MARGIN_M};
 pub use super::parts::Capacity;
 use super::parts::{Fw16HostParts, FwHostParts, HostParts};
+use super::power_loss::{keep_progress, power_cut};
 
 /// Evidence (and fine planning) cell side, mm.
 pub const EVIDENCE_MM: u32 = 50;
@@ -497,13 +498,6 @@ pub(crate) fn drive(
     Ok((rep, trace))
 }
 
-/// The power fails now ([`MapStore::power_loss_s`]).
-fn power_cut(opts: &MissionOptions, t_us: u64) -> bool {
-    opts.map_store
-        .power_loss_s
-        .is_some_and(|t| t_us >= (t * 1e6) as u64)
-}
-
 /// The battery's figures, and the cleaning time without charging.
 fn battery_report(rep: &mut MissionReport, power: &super::power::Power) {
     rep.battery = super::power::BatteryFigures::of(power);
@@ -512,95 +506,6 @@ fn battery_report(rep: &mut MissionReport, power: &super::power::Power) {
     if power.flat() {
         rep.faults.push(("battery ran flat".to_string(), 1));
     }
-}
-
-/// The progress kept through a power loss: every `progress_every_s` the
-/// map and the progress saved, as the robot would to its store
-/// ([`MissionTrace::saved_map`] keeps the last); and the edge pass's part
-/// restored once its pass has started.
-fn keep_progress(
-    opts: &MissionOptions,
-    t_us: u64,
-    mission: &mut dyn Executive,
-    dock: robovac::robot::odometry::Pose,
-    trace: &mut MissionTrace,
-) -> Result<(), String> {
-    if let Some(every) = opts.map_store.progress_every_s {
-        let period_us = ((every * 1e6) as u64).max(10_000);
-        if t_us % period_us < 10_000 && mission.state() != State::SelfTest {
-            let mut store = MemStore::erased();
-            let n = mission.save_progress(dock, &mut store)?;
-            trace.saved_map = Some((store, n));
-        }
-    }
-    if let (true, Some(store)) = (mission.wants_edge_progress(), &opts.map_store.load) {
-        trace.restored_cells += mission
-            .restore_edge_progress(&mut store.clone())
-            .unwrap_or(0);
-    }
-    Ok(())
-}
-
-/// The firmware in the emulator, its map in `map` (a `side` × `side` map
-/// of the image's capacity): the world's prior (known mode), or the
-/// dock's frame (`--dock-frame`, the dock at `start`, world m).
-fn pil_on<const B: usize>(
-    pil: &super::pil::PilOptions,
-    opts: &MissionOptions,
-    cfg: MissionConfig,
-    mut map: Box<robovac::robot::lidar_map::EvidenceMap<B>>,
-    side: usize,
-    world: &World,
-    start: (f64, f64),
-) -> Result<super::pil::Pil, String> {
-    if !opts.dock_frame {
-        let known = opts.mode == MapMode::Known;
-        return super::pil::Pil::start_on(pil, cfg, map, world, known);
-    }
-    let frame = dock_frame(&mut map, side, start)?;
-    let mut p = super::pil::Pil::start(&pil.elf, pil.log.as_deref(), cfg, &map)?;
-    p.frame = frame;
-    Ok(p)
-}
-
-/// `--dock-frame` is for a first run in unknown mode at the firmware's
-/// capacity: what the robot image does.
-fn check_dock_frame(opts: &MissionOptions, world: &World) -> Result<(), String> {
-    if !opts.dock_frame {
-        return Ok(());
-    }
-    let why = if opts.mode != MapMode::Unknown || opts.map_store.load.is_some() {
-        "a first run in unknown mode (no --load-map)"
-    } else if opts.capacity == Capacity::Host {
-        "the firmware's capacity (--capacity fw or fw16)"
-    } else if !world.zones.is_empty() {
-        "no no-go zones or virtual walls (they are drawn in the world's frame; --no-map-zones)"
-    } else if opts.map_store.save || opts.map_store.progress_every_s.is_some() {
-        "no saved map (a map in the dock's frame is not of the world's)"
-    } else {
-        return Ok(());
-    };
-    Err(format!("--dock-frame needs {why}"))
-}
-
-/// The robot's own frame: an empty `side` × `side` map of
-/// [`EVIDENCE_MM`] cells with the dock (`start`, world m) at its centre.
-fn dock_frame<const B: usize>(
-    map: &mut robovac::robot::lidar_map::EvidenceMap<B>,
-    side: usize,
-    start: (f64, f64),
-) -> Result<super::executive::Frame, String> {
-    map.reset(side as u32, side as u32, EVIDENCE_MM)
-        .map_err(|e| format!("map too large for the evidence map: {e}"))?;
-    let half = (side as u32 * EVIDENCE_MM / 2) as i32;
-    let (x, y) = (
-        (start.0 * 1000.0).round() as i32,
-        (start.1 * 1000.0).round() as i32,
-    );
-    Ok(super::executive::Frame {
-        offset_mm: (x - half, y - half),
-        scrolls: 0,
-    })
 }
 
 /// Time the executive has spent charging on the dock, s.

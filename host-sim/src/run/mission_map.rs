@@ -1,12 +1,14 @@
 //! A mission's map before it begins, and the owner's rules on it: the
 //! map kept between runs (loaded from a store, saved at the end) and the
-//! no-go zones and virtual walls, measured on the truth.
+//! no-go zones and virtual walls, measured on the truth; and the robot's
+//! own frame (`--dock-frame`), an empty map centred on the dock.
 
 use robovac::grid::Zone;
-use robovac::mission::MapMode;
+use robovac::mission::{MapMode, MissionConfig};
 use robovac::robot::lidar_map::EvidenceMap;
 
 use super::mission::{MissionOptions, EVIDENCE_MM};
+use super::parts::Capacity;
 use crate::io::store::MemStore;
 use crate::sim::scan::fill_prior;
 use crate::sim::world::World;
@@ -98,4 +100,66 @@ pub(super) fn prepare_map<const B: usize>(
     }
     map.set_zones(&world.zones, robovac::grid::zones::MARGIN_MM)
         .map_err(|e| e.to_string())
+}
+
+/// The firmware in the emulator, its map in `map` (a `side` × `side` map
+/// of the image's capacity): the world's prior (known mode), or the
+/// dock's frame (`--dock-frame`, the dock at `start`, world m).
+pub(super) fn pil_on<const B: usize>(
+    pil: &super::pil::PilOptions,
+    opts: &MissionOptions,
+    cfg: MissionConfig,
+    mut map: Box<robovac::robot::lidar_map::EvidenceMap<B>>,
+    side: usize,
+    world: &World,
+    start: (f64, f64),
+) -> Result<super::pil::Pil, String> {
+    if !opts.dock_frame {
+        let known = opts.mode == MapMode::Known;
+        return super::pil::Pil::start_on(pil, cfg, map, world, known);
+    }
+    let frame = dock_frame(&mut map, side, start)?;
+    let mut p = super::pil::Pil::start(&pil.elf, pil.log.as_deref(), cfg, &map)?;
+    p.frame = frame;
+    Ok(p)
+}
+
+/// `--dock-frame` is for a first run in unknown mode at the firmware's
+/// capacity: what the robot image does.
+pub(super) fn check_dock_frame(opts: &MissionOptions, world: &World) -> Result<(), String> {
+    if !opts.dock_frame {
+        return Ok(());
+    }
+    let why = if opts.mode != MapMode::Unknown || opts.map_store.load.is_some() {
+        "a first run in unknown mode (no --load-map)"
+    } else if opts.capacity == Capacity::Host {
+        "the firmware's capacity (--capacity fw or fw16)"
+    } else if !world.zones.is_empty() {
+        "no no-go zones or virtual walls (they are drawn in the world's frame; --no-map-zones)"
+    } else if opts.map_store.save || opts.map_store.progress_every_s.is_some() {
+        "no saved map (a map in the dock's frame is not of the world's)"
+    } else {
+        return Ok(());
+    };
+    Err(format!("--dock-frame needs {why}"))
+}
+
+/// The robot's own frame: an empty `side` × `side` map of
+/// [`EVIDENCE_MM`] cells with the dock (`start`, world m) at its centre.
+pub(super) fn dock_frame<const B: usize>(
+    map: &mut robovac::robot::lidar_map::EvidenceMap<B>,
+    side: usize,
+    start: (f64, f64),
+) -> Result<super::executive::Frame, String> {
+    map.reset(side as u32, side as u32, EVIDENCE_MM)
+        .map_err(|e| format!("map too large for the evidence map: {e}"))?;
+    let half = (side as u32 * EVIDENCE_MM / 2) as i32;
+    let (x, y) = (
+        (start.0 * 1000.0).round() as i32,
+        (start.1 * 1000.0).round() as i32,
+    );
+    Ok(super::executive::Frame {
+        offset_mm: (x - half, y - half),
+        scrolls: 0,
+    })
 }

@@ -6,7 +6,9 @@
 //! the floor the second run swept again that the first had swept, and
 //! the distance both drove beyond the same mission run without the cut.
 
+use super::executive::Executive;
 use super::mission::{run_mission, MissionOptions, MissionReport, MissionTrace};
+use crate::io::store::MemStore;
 use crate::sim::floor::Floor;
 use robovac::mission::{MapMode, State};
 
@@ -118,4 +120,38 @@ fn overlap(a: &Floor, b: &Floor) -> ResetFigures {
         reswept: both as f64 / n,
         ..Default::default()
     }
+}
+
+/// The power fails now ([`super::mission_map::MapStore::power_loss_s`]).
+pub(super) fn power_cut(opts: &MissionOptions, t_us: u64) -> bool {
+    opts.map_store
+        .power_loss_s
+        .is_some_and(|t| t_us >= (t * 1e6) as u64)
+}
+
+/// The progress kept through a power loss: every `progress_every_s` the
+/// map and the progress saved, as the robot would to its store
+/// ([`MissionTrace::saved_map`] keeps the last); and the edge pass's part
+/// restored once its pass has started.
+pub(super) fn keep_progress(
+    opts: &MissionOptions,
+    t_us: u64,
+    mission: &mut dyn Executive,
+    dock: robovac::robot::odometry::Pose,
+    trace: &mut MissionTrace,
+) -> Result<(), String> {
+    if let Some(every) = opts.map_store.progress_every_s {
+        let period_us = ((every * 1e6) as u64).max(10_000);
+        if t_us % period_us < 10_000 && mission.state() != State::SelfTest {
+            let mut store = MemStore::erased();
+            let n = mission.save_progress(dock, &mut store)?;
+            trace.saved_map = Some((store, n));
+        }
+    }
+    if let (true, Some(store)) = (mission.wants_edge_progress(), &opts.map_store.load) {
+        trace.restored_cells += mission
+            .restore_edge_progress(&mut store.clone())
+            .unwrap_or(0);
+    }
+    Ok(())
 }
