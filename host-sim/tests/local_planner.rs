@@ -18,7 +18,7 @@ use robovac::mission::{EventKind, LocalPlanner, MapMode};
 fn the_potential_field_steers_the_home_flat_and_shows_its_local_minima() {
     // Two people and realistic noise: this run meets one local minimum
     // (measured; the count is the executive's, checked against its events).
-    // Seed 3. Earlier seeds stopped meeting one as the executive changed:
+    // Seed 9. Earlier seeds stopped meeting one as the executive changed:
     // seed 1 when given-up lanes were handed back whatever stands on them,
     // seed 7 when the robot kept off the walls beside it (`nav::keep_off`),
     // seed 16 when its edge pass grazed a door jamb, seed 11 when the
@@ -31,10 +31,11 @@ fn the_potential_field_steers_the_home_flat_and_shows_its_local_minima() {
     // guard counted the nearest map cells (`Mission::cells_free`), seed 4
     // when known mode's lidar hits stood only for fixed walls
     // (`wall_offset`'s `fixed_only`), seed 8 when the guard left out the
-    // map cells under the body (`UNDER_BODY_MM`). Seeds 1-16 tried: 3, 4,
-    // 10, 13, 14 and 16 meet one each, every run docked with no collision.
+    // map cells under the body (`UNDER_BODY_MM`), seed 9 when the
+    // follower turned faster and braked harder (issue 12's time). Seeds
+    // 1-16 tried: only 9 meets one, every run docked with no collision.
     let map = suite_map("home").unwrap();
-    let mut o = MissionOptions::new(map, MapMode::Known, 2, Noise::Realistic, 3);
+    let mut o = MissionOptions::new(map, MapMode::Known, 2, Noise::Realistic, 9);
     o.local = LocalPlanner::Apf;
     let (rep, t, _) = run_mission(&o, |_, _, _| {}).unwrap();
     truth::check_truth(&o, &rep, &t);
