@@ -596,8 +596,3 @@ impl Mission {
         matches!(self.phase, Phase::Done | Phase::Failed(_))
     }
 }
-
-/// Where the front sub-path ends ((0, 0) when the queue is empty).
-fn seg_to<const C: usize>(q: &SubPaths<C>) -> (i32, i32) {
-    q.front().map(|(s, _)| s.to).unwrap_or((0, 0))
-}

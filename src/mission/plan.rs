@@ -1,7 +1,7 @@
 //! The planning step (10 Hz): the hand-off replayed, the battery, the
 //! guard's hold, and the one dispatch on the phase; the self-test.
 
-use super::{seg_to, Activity, Fault, MapMode, Phase};
+use super::{Activity, Fault, MapMode, Phase};
 use crate::math::cost::dist_mm;
 use crate::nav::cspace;
 use crate::nav::geometry::segment_clear;
@@ -224,3 +224,8 @@ sized_impl!([] {
         }
     }
 });
+
+/// Where the front sub-path ends ((0, 0) when the queue is empty).
+fn seg_to<const C: usize>(q: &crate::nav::follow::SubPaths<C>) -> (i32, i32) {
+    q.front().map(|(s, _)| s.to).unwrap_or((0, 0))
+}
