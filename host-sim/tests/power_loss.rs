@@ -66,3 +66,29 @@ fn a_power_loss_in_the_edge_pass_restores_its_progress_too() {
     );
     assert!(lanes_s(second) < 0.2 * lanes_s(first), "{second:?}");
 }
+
+/// The robot is put back on its dock after the reset as a person would:
+/// here (home flat, realistic, seed 1) 90 mm and 60 mrad off. The rerun
+/// matches its first revolution at the dock and maps it at the pose
+/// found; it once mapped it at the pose it left, wiped the saved walls by
+/// the dock, and never found itself again (failed lost at its start).
+#[test]
+fn a_rerun_put_down_off_its_dock_finds_itself_on_the_saved_map() {
+    let home = MissionOptions::new(
+        suite_map("home").unwrap(),
+        MapMode::Known,
+        0,
+        Noise::Realistic,
+        1,
+    );
+    let pl = run_power_loss(&home, 450.0, 60.0, |_, _, _| {}).unwrap();
+    let second = &pl.second.0;
+    assert!(second.finished && second.docked, "{}", second.final_state);
+    assert_eq!(second.collisions, 0);
+    assert!(pl.figures.coverage >= 0.98, "{:?}", pl.figures);
+    assert!(
+        second.pose_error_max_mm <= 100.0,
+        "{}",
+        second.pose_error_max_mm
+    );
+}

@@ -103,19 +103,21 @@ pub const BELIEVE_AFTER: u8 = 3;
 pub const BUMP_PLACES: usize = 4;
 
 /// The places bumped last, most recent first, each with its bumps (a
-/// count of 0: an empty slot). 12 bytes a place.
+/// count of 0: an empty slot). 12 bytes a place. Also where the edge pass
+/// gave sub-paths up lately (two places: [`super::recover`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct BumpPlaces([((i32, i32), u8); BUMP_PLACES]);
+pub struct BumpPlaces<const N: usize = BUMP_PLACES>([((i32, i32), u8); N]);
 
-impl BumpPlaces {
+impl<const N: usize> BumpPlaces<N> {
     /// No place bumped yet.
     pub const fn new() -> Self {
-        Self([((0, 0), 0); BUMP_PLACES])
+        Self([((0, 0), 0); N])
     }
 
     /// Counts a bump at `contact` (mm): one more at the remembered place
     /// within [`SAME_PLACE_MM`], which moves to the front at the new spot,
-    /// or a new place with one, which pushes out the least recent.
+    /// or a new place with one, which pushes out the least recent (of
+    /// `N`).
     /// Returns the place's bumps (saturating at 255).
     pub fn count(&mut self, contact: (i32, i32)) -> u8 {
         let near = |&(p, n): &((i32, i32), u8)| n > 0 && dist_mm(p, contact) <= SAME_PLACE_MM;
@@ -123,7 +125,7 @@ impl BumpPlaces {
         let n = found
             .and_then(|i| self.0.get(i))
             .map_or(1, |&(_, n)| n.saturating_add(1));
-        let end = found.unwrap_or(BUMP_PLACES - 1);
+        let end = found.unwrap_or(N.saturating_sub(1));
         if let Some(front) = self.0.get_mut(..=end) {
             front.rotate_right(1);
             if let Some(first) = front.first_mut() {
@@ -134,7 +136,7 @@ impl BumpPlaces {
     }
 }
 
-impl Default for BumpPlaces {
+impl<const N: usize> Default for BumpPlaces<N> {
     fn default() -> Self {
         Self::new()
     }
@@ -362,7 +364,7 @@ mod tests {
     /// forgotten.
     #[test]
     fn places_bumped_in_turn_are_counted_apart() {
-        let mut places = BumpPlaces::new();
+        let mut places: BumpPlaces = BumpPlaces::new();
         let (a, b) = ((6424, 489), (2208, 2784));
         let counts = [a, b, a, b, a, b].map(|p| places.count(p));
         assert_eq!(counts, [1, 1, 2, 2, 3, 3]);
@@ -376,5 +378,19 @@ mod tests {
         }
         assert_eq!(places.count((6700, 600)), 6);
         assert_eq!(places.count(b), 1);
+    }
+
+    /// The edge pass's two places (`recover::EDGE_REOPENS_PER_PLACE`): a
+    /// to and fro between two ends 250 mm apart counts at each end, and a
+    /// third place pushes out the least recent.
+    #[test]
+    fn two_places_count_a_to_and_fro() {
+        let mut places = BumpPlaces::<2>::new();
+        let (a, b) = ((2025, 2375), (1775, 2375));
+        let counts = [a, b, a, b, a, b].map(|p| places.count(p));
+        assert_eq!(counts, [1, 1, 2, 2, 3, 3]);
+        assert_eq!(places.count((4000, 0)), 1);
+        assert_eq!(places.count(a), 1, "a was the least recent of two");
+        assert_eq!(places.count(b), 1, "pushed out by a");
     }
 }

@@ -265,6 +265,9 @@ pub struct Mission {
     replan_count: u8,
     reopens: u32,
     edge_reopens: u32,
+    /// Where the edge pass gave sub-paths up lately, and how often at
+    /// each ([`recover::EDGE_REOPENS_PER_PLACE`]).
+    edge_give_ups: bump::BumpPlaces<2>,
     abandon_rounds: u8,
     /// Planning cells of cleaning goals the fine search found no way to.
     skipped_goals: heapless::Vec<crate::grid::Cell, SKIPPED_GOALS>,
@@ -386,6 +389,7 @@ impl Mission {
             replan_count: 0,
             reopens: 0,
             edge_reopens: 0,
+            edge_give_ups: bump::BumpPlaces::new(),
             abandon_rounds: 0,
             skipped_goals: heapless::Vec::new(),
             boxed_wait: None,

@@ -23,15 +23,17 @@ impl Mission {
     }
 
     /// The edge pass has started on a restored progress that holds the
-    /// edge pass's own: call [`Mission::restore_edge_progress`] now (its
-    /// grid is built only when the pass starts).
+    /// fine cells swept (the lanes' track, and the edge pass's own when the
+    /// save came in the pass): call [`Mission::restore_edge_progress`] now
+    /// (its grid is built only when the pass starts).
     pub fn wants_edge_progress(&self) -> bool {
         self.edge_progress_pending && self.phase == Phase::Edge && self.fine_is_edge
     }
 
-    /// Marks the contour cells the saved run's edge pass had cleaned, so
-    /// the pass goes on where it was cut short. Once; returns the cells
-    /// marked.
+    /// Marks the fine cells the saved run had swept (its lanes' track and
+    /// the contour cells its edge pass had cleaned), so the pass skips the
+    /// walls the lanes swept and goes on where it was cut short. Once;
+    /// returns the cells marked.
     pub fn restore_edge_progress(
         &mut self,
         parts: &mut (impl MissionParts + ?Sized),

@@ -16,6 +16,19 @@ fn lerp_mm(a: (i32, i32), b: (i32, i32), k: i64, steps: i64) -> (i32, i32) {
     (at(a.0, b.0), at(a.1, b.1))
 }
 
+/// How often the edge pass takes back the contour where it gave a
+/// sub-path up, per place (within [`super::bump::SAME_PLACE_MM`], over the
+/// last two places). A wall face the lidar grazes
+/// flickers between occupied and free: the pass's grid, built while a
+/// stretch of it read free, put contour cells 50 mm into the face, the leg
+/// to each was judged blocked on the live map and given up, and each give-
+/// up reopened the stretch. The pass went to and fro under a kitchen
+/// island for 100 s, 35 times, until its retry budget ran out (the studio
+/// rerun after a power loss, realistic, seed 1). Twice is enough for a
+/// person who stood on the contour to step off. Two places: a to and fro
+/// has two ends.
+pub(super) const EDGE_REOPENS_PER_PLACE: u8 = 2;
+
 sized_impl!([] {
     pub(super) fn fail(&mut self, f: Fault) {
         self.m.phase = Phase::Failed(f);
@@ -78,8 +91,10 @@ sized_impl!([] {
             return;
         }
         if m.phase == Phase::Edge {
-            // The edge pass retries at most a tenth as often.
-            if m.edge_reopens >= MAX_RETRIES / 10 {
+            // The edge pass retries at most a tenth as often, and a
+            // place only so often ([`EDGE_REOPENS_PER_PLACE`]).
+            let again = m.edge_give_ups.count(seg.to);
+            if m.edge_reopens >= MAX_RETRIES / 10 || again > EDGE_REOPENS_PER_PLACE {
                 return;
             }
             m.edge_reopens += 1;

@@ -186,6 +186,7 @@ impl Mission {
         self.held_to = None;
         self.apf_minimum = None;
         self.bump_places = super::bump::BumpPlaces::new();
+        self.edge_give_ups = super::bump::BumpPlaces::new();
         self.pocket = super::cover::Pocket::new();
         self.boxed_tries = 0;
         self.skipped_goals.clear();
