@@ -8,14 +8,19 @@ use host_sim::run::suite::suite_map;
 use host_sim::sim::robot::Noise;
 use robovac::mission::MapMode;
 
-fn studio() -> MissionOptions {
+/// A built-in flat on its prior map, realistic noise, nobody there.
+fn flat(name: &str, seed: u64) -> MissionOptions {
     MissionOptions::new(
-        suite_map("studio").unwrap(),
+        suite_map(name).unwrap(),
         MapMode::Known,
         0,
         Noise::Realistic,
-        2,
+        seed,
     )
+}
+
+fn studio() -> MissionOptions {
+    flat("studio", 2)
 }
 
 fn lanes_s(rep: &host_sim::run::mission::MissionReport) -> f64 {
@@ -74,14 +79,7 @@ fn a_power_loss_in_the_edge_pass_restores_its_progress_too() {
 /// the dock, and never found itself again (failed lost at its start).
 #[test]
 fn a_rerun_put_down_off_its_dock_finds_itself_on_the_saved_map() {
-    let home = MissionOptions::new(
-        suite_map("home").unwrap(),
-        MapMode::Known,
-        0,
-        Noise::Realistic,
-        1,
-    );
-    let pl = run_power_loss(&home, 450.0, 60.0, |_, _, _| {}).unwrap();
+    let pl = run_power_loss(&flat("home", 1), 450.0, 60.0, |_, _, _| {}).unwrap();
     let second = &pl.second.0;
     assert!(second.finished && second.docked, "{}", second.final_state);
     assert_eq!(second.collisions, 0);

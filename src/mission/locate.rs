@@ -146,12 +146,11 @@ impl Mission {
             p.y_mm - (y / 1_000_000) as i32,
         );
         let dt = crate::localize::correlative::wrap_urad(p.theta_urad - t);
-        self.drive.odom.correct(dx, dy, dt);
         // The revolution just matched was taken at the pose the jump
-        // leaves: it is mapped (at the start) at the pose found. Exact for
-        // a revolution taken standing, as every relocalisation's is.
-        let dt_mrad = ((dt + dt.signum() * 500) / 1000) as i32;
-        self.lidar.scan.shift(dx, dy, dt_mrad);
+        // leaves: it moves with the odometry, and is mapped (at the start)
+        // at the pose found. Exact for a revolution taken standing, as
+        // every relocalisation's is.
+        self.apply((dx, dy, dt));
         let now = self.drive.odom.pose();
         self.events.push(
             now_us,

@@ -509,25 +509,6 @@ impl Mission {
         cmd
     }
 
-    /// The battery's state of charge, ‰ (0..=1000; more saturates), from
-    /// the pack's fuel gauge or [`crate::robot::battery::charge_from_mv`];
-    /// as often as it is measured (every control period at most). Once
-    /// given, the charge decides when to go home to recharge and when to
-    /// go on ([`MissionConfig::battery`]); never given, the time budget
-    /// `battery_us` ends the mission.
-    pub fn set_charge(&mut self, charge_pm: u16) {
-        self.battery.now_pm = Some(charge_pm.min(1000));
-    }
-
-    /// The owner (the robot's button) or a low battery asks the robot
-    /// home: at the next planning step in which it is cleaning (the lanes
-    /// or the edge pass) it stops cleaning and returns to the dock, as
-    /// when the cleaning budget runs out. Already on its way home, done
-    /// or failed: nothing changes.
-    pub fn request_home(&mut self) {
-        self.home_requested = true;
-    }
-
     /// The next event, oldest first.
     pub fn pop_event(&mut self) -> Option<Event> {
         self.events.pop()
